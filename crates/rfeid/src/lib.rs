@@ -1,1 +1,4 @@
-pub fn x() {}
+//! rfeid: identification of nonlinear joint parameters in rigid-finite-element
+//! models of machine-tool supporting systems.
+pub mod identification;
+pub mod io;

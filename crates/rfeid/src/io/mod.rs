@@ -1,0 +1,2 @@
+//! Reading and writing files.
+pub mod units;
