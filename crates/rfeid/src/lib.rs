@@ -2,3 +2,5 @@
 //! models of machine-tool supporting systems.
 pub mod identification;
 pub mod io;
+pub mod model;
+pub mod simulation;

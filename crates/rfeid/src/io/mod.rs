@@ -1,2 +1,5 @@
-//! Reading and writing files.
+//! Reading and writing files: model files, units, time series.
+pub mod atomic;
+pub mod model_file;
+pub mod timeseries;
 pub mod units;

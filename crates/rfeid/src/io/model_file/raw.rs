@@ -1,0 +1,142 @@
+//! The model file as written: serde structures with spans, no meaning yet.
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A number, or a string: a quantity with a unit (`"15 daN/um"`) or the
+/// name of a parameter.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum RawNum {
+    /// A bare number, SI.
+    Num(f64),
+    /// A quantity with a unit, or a parameter name.
+    Text(String),
+}
+
+pub type SNum = Spanned<RawNum>;
+pub type SVec = Spanned<Vec<SNum>>;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFile {
+    pub simulation: Option<Spanned<RawSimulation>>,
+    pub gravity: Option<SVec>,
+    #[serde(default)]
+    pub body: Vec<Spanned<RawBody>>,
+    #[serde(default)]
+    pub element: Vec<Spanned<RawElement>>,
+    #[serde(default)]
+    pub parameter: Vec<Spanned<RawParameter>>,
+    #[serde(default)]
+    pub excitation: Vec<Spanned<RawExcitation>>,
+    #[serde(default)]
+    pub sensor: Vec<Spanned<RawSensor>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSimulation {
+    pub duration: Option<SNum>,
+    pub sample_rate: Option<SNum>,
+    pub substeps: Option<Spanned<i64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawBody {
+    pub name: Option<Spanned<String>>,
+    pub mass: Option<SNum>,
+    pub inertia: Option<SVec>,
+    pub com: Option<SVec>,
+    pub axes: Option<Spanned<Vec<SVec>>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawComponent {
+    pub law: Option<Spanned<String>>,
+    pub k: Option<SNum>,
+    pub a: Option<SNum>,
+    pub m: Option<SNum>,
+    pub c: Option<SNum>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawElement {
+    pub name: Option<Spanned<String>>,
+    pub body: Option<Spanned<String>>,
+    pub to: Option<Spanned<String>>,
+    pub at: Option<SVec>,
+    pub axes: Option<Spanned<Vec<SVec>>>,
+    pub ux: Option<Spanned<RawComponent>>,
+    pub uy: Option<Spanned<RawComponent>>,
+    pub uz: Option<Spanned<RawComponent>>,
+    pub rx: Option<Spanned<RawComponent>>,
+    pub ry: Option<Spanned<RawComponent>>,
+    pub rz: Option<Spanned<RawComponent>>,
+}
+
+impl RawElement {
+    /// The six component slots in `ux … rz` order.
+    pub fn components(&self) -> [&Option<Spanned<RawComponent>>; 6] {
+        [&self.ux, &self.uy, &self.uz, &self.rx, &self.ry, &self.rz]
+    }
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawParameter {
+    pub name: Option<Spanned<String>>,
+    pub value: Option<SNum>,
+    pub min: Option<SNum>,
+    pub max: Option<SNum>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTone {
+    pub amplitude: Option<SNum>,
+    pub frequency: Option<SNum>,
+    pub phase: Option<SNum>,
+}
+
+/// A signal table; which keys apply depends on `type` (checked when built).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSignal {
+    #[serde(rename = "type")]
+    pub kind: Option<Spanned<String>>,
+    pub amplitude: Option<SNum>,
+    pub frequency: Option<SNum>,
+    pub phase: Option<SNum>,
+    pub components: Option<Spanned<Vec<Spanned<RawTone>>>>,
+    pub f0: Option<SNum>,
+    pub f1: Option<SNum>,
+    pub duration: Option<SNum>,
+    pub t0: Option<SNum>,
+    pub width: Option<SNum>,
+    pub file: Option<Spanned<String>>,
+    pub column: Option<Spanned<String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExcitation {
+    pub name: Option<Spanned<String>>,
+    pub body: Option<Spanned<String>>,
+    pub reaction: Option<Spanned<String>>,
+    pub at: Option<SVec>,
+    pub direction: Option<SVec>,
+    pub signal: Option<Spanned<RawSignal>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSensor {
+    pub name: Option<Spanned<String>>,
+    pub body: Option<Spanned<String>>,
+    pub at: Option<SVec>,
+    pub direction: Option<SVec>,
+    pub quantity: Option<Spanned<String>>,
+}

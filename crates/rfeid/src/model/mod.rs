@@ -1,0 +1,272 @@
+//! The rigid-finite-element model (paper §2, eq. 1–9; SPEC §1).
+//!
+//! A [`Model`] is built and validated once, from a file
+//! ([`crate::io::model_file`]) or in code, and everything downstream trusts
+//! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
+//! a fixed number or a reference to a [`Parameter`].
+pub mod geometry;
+mod signal;
+
+pub use signal::{Shape, Signal, Term};
+
+use nalgebra::{Matrix3, Vector3};
+
+/// A coefficient of the model: a fixed number or a named parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    /// A number, SI.
+    Fixed(f64),
+    /// The parameter with this index in [`Model::parameters`].
+    Param(usize),
+}
+
+impl Value {
+    /// The value for the parameter values `p` (indexed like [`Model::parameters`]).
+    #[inline]
+    pub fn eval(&self, p: &[f64]) -> f64 {
+        match *self {
+            Value::Fixed(v) => v,
+            Value::Param(i) => p[i],
+        }
+    }
+
+    /// The parameter this value stands for, if any.
+    pub fn param(&self) -> Option<usize> {
+        match *self {
+            Value::Fixed(_) => None,
+            Value::Param(i) => Some(i),
+        }
+    }
+}
+
+/// A rigid body (an RFE) with 6 degrees of freedom `[u1 u2 u3 φ1 φ2 φ3]`
+/// along and about its principal central axes (eq. 1).
+#[derive(Debug, Clone)]
+pub struct Body {
+    /// Unique name.
+    pub name: String,
+    /// Mass m, kg.
+    pub mass: Value,
+    /// Principal central moments of inertia J1, J2, J3, kg·m².
+    pub inertia: [Value; 3],
+    /// Centre of mass, global frame, m.
+    pub com: Vector3<f64>,
+    /// Principal axes as the columns of a rotation matrix R (global components).
+    pub axes: Matrix3<f64>,
+}
+
+/// What the second end of a spring–damping element is attached to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Attachment {
+    /// The body with this index in [`Model::bodies`].
+    Body(usize),
+    /// The ground, which does not move.
+    Ground,
+}
+
+/// The force law of one SDE component (eq. 2, 6; SPEC §1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Law {
+    /// No spring: the component carries only its damping.
+    None,
+    /// `f = k δ`.
+    Linear {
+        /// Stiffness k (N/m, or N·m/rad for rotations).
+        k: Value,
+    },
+    /// `f = a · sign(δ) · |δ|^m`, the slideway contact law (eq. 6, extended oddly).
+    Power {
+        /// Coefficient a (N/m^m).
+        a: Value,
+        /// Exponent m (usually 1–3).
+        m: Value,
+    },
+}
+
+/// One component (one row of B) of a spring–damping element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Component {
+    /// 0–2: translations `ux uy uz` along the element axes; 3–5: rotations `rx ry rz`.
+    pub dof: usize,
+    /// The spring.
+    pub law: Law,
+    /// Viscous damping c (N·s/m or N·m·s/rad), eq. 7–9.
+    pub damping: Value,
+}
+
+/// Names of the six SDE components, indexed like [`Component::dof`].
+pub const COMPONENT_NAMES: [&str; 6] = ["ux", "uy", "uz", "rx", "ry", "rz"];
+
+/// A spring–damping element κ joining `body` (r) to `to` (p), eq. 2–9.
+#[derive(Debug, Clone)]
+pub struct Element {
+    /// Unique name.
+    pub name: String,
+    /// Body r.
+    pub body: usize,
+    /// Body p or ground.
+    pub to: Attachment,
+    /// Position x_κ, global, m.
+    pub at: Vector3<f64>,
+    /// Element axes E_κ as columns (global components), right-handed orthonormal.
+    pub axes: Matrix3<f64>,
+    /// The components present.
+    pub components: Vec<Component>,
+}
+
+/// A model parameter: a named number, identified when it has a box (eq. 17).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// Unique name.
+    pub name: String,
+    /// Nominal value, SI.
+    pub value: f64,
+    /// Search box `[min, max]`, SI; `None` for a fixed parameter.
+    pub bounds: Option<(f64, f64)>,
+    /// How to show values to a person: a unit symbol and its SI scale.
+    pub unit: DisplayUnit,
+}
+
+/// A unit for showing numbers: `value_shown = value_si / scale`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DisplayUnit {
+    /// Symbol as the user wrote it, e.g. `daN/um^2`; empty for SI.
+    pub symbol: String,
+    /// SI value of one unit.
+    pub scale: f64,
+}
+
+impl Default for DisplayUnit {
+    fn default() -> Self {
+        DisplayUnit {
+            symbol: String::new(),
+            scale: 1.0,
+        }
+    }
+}
+
+/// A force P(t) along a global unit direction at a point of a body, with
+/// an optional equal and opposite reaction on a second body (SPEC §1).
+#[derive(Debug, Clone)]
+pub struct Excitation {
+    /// Name (defaults to `excitation N`).
+    pub name: String,
+    /// The body the force acts on.
+    pub body: usize,
+    /// The body the reaction acts on.
+    pub reaction: Option<usize>,
+    /// Point of application, global, m.
+    pub at: Vector3<f64>,
+    /// Unit direction, global.
+    pub direction: Vector3<f64>,
+    /// P(t), N.
+    pub signal: Signal,
+}
+
+/// What a sensor reads (eq. 15).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SensorKind {
+    /// Displacement, m.
+    Displacement,
+    /// Velocity, m/s.
+    Velocity,
+    /// Acceleration, m/s².
+    Acceleration,
+}
+
+impl SensorKind {
+    /// The SI unit of the reading.
+    pub fn unit(self) -> &'static str {
+        match self {
+            SensorKind::Displacement => "m",
+            SensorKind::Velocity => "m/s",
+            SensorKind::Acceleration => "m/s^2",
+        }
+    }
+}
+
+/// A sensor: the motion of a point of a body along a global unit direction.
+#[derive(Debug, Clone)]
+pub struct Sensor {
+    /// Unique name; also the data column's name.
+    pub name: String,
+    /// The body.
+    pub body: usize,
+    /// The point, global, m.
+    pub at: Vector3<f64>,
+    /// Unit direction n, global.
+    pub direction: Vector3<f64>,
+    /// Displacement, velocity or acceleration.
+    pub kind: SensorKind,
+}
+
+/// The sampling of a run: N = round(duration · rate) samples at t_k = k / rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sampling {
+    /// Record length, s.
+    pub duration: f64,
+    /// Sample rate, Hz.
+    pub sample_rate: f64,
+    /// Integrator steps per sample interval.
+    pub substeps: usize,
+}
+
+impl Sampling {
+    /// Number of samples N.
+    pub fn n_samples(&self) -> usize {
+        (self.duration * self.sample_rate).round() as usize
+    }
+
+    /// Time of sample k.
+    pub fn time(&self, k: usize) -> f64 {
+        k as f64 / self.sample_rate
+    }
+}
+
+/// A validated RFE model with its experiment (excitations, sensors, sampling).
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// The rigid bodies; body b owns generalized coordinates `6b .. 6b + 6`.
+    pub bodies: Vec<Body>,
+    /// The spring–damping elements.
+    pub elements: Vec<Element>,
+    /// All parameters, fixed and identified.
+    pub parameters: Vec<Parameter>,
+    /// The excitation forces.
+    pub excitations: Vec<Excitation>,
+    /// The sensors.
+    pub sensors: Vec<Sensor>,
+    /// The sampling.
+    pub sampling: Sampling,
+    /// Gravity acceleration, global, m/s²; the run then starts from static equilibrium.
+    pub gravity: Option<Vector3<f64>>,
+}
+
+impl Model {
+    /// Number of generalized coordinates, 6 per body.
+    pub fn n_dof(&self) -> usize {
+        6 * self.bodies.len()
+    }
+
+    /// Nominal values of all parameters.
+    pub fn nominal(&self) -> Vec<f64> {
+        self.parameters.iter().map(|p| p.value).collect()
+    }
+
+    /// Indices of the identified parameters (those with a box), in file order.
+    pub fn identified(&self) -> Vec<usize> {
+        (0..self.parameters.len())
+            .filter(|&i| self.parameters[i].bounds.is_some())
+            .collect()
+    }
+
+    /// Index of the sensor with this name.
+    pub fn sensor_index(&self, name: &str) -> Option<usize> {
+        self.sensors.iter().position(|s| s.name == name)
+    }
+
+    /// Index of the parameter with this name.
+    pub fn parameter_index(&self, name: &str) -> Option<usize> {
+        self.parameters.iter().position(|p| p.name == name)
+    }
+}

@@ -1,0 +1,152 @@
+//! Static equilibrium under gravity and its parameter sensitivities.
+//!
+//! Solves `R(q) = K q + Σ_i B_iᵀ law_i(B_i q) − W = 0` (eq. 1 with q̈ = q̇ = 0,
+//! W the body weights) by damped Newton iterations on the tangent stiffness
+//! `K_t = ∂R/∂q`. A power-law spring has zero slope at δ = 0, so `K_t(0)` may
+//! be singular; the iteration then starts with Levenberg damping. The
+//! sensitivities follow from `K_t ∂q/∂x = −∂R/∂x`.
+use super::structure::Usage;
+use super::system::{power_law, System};
+use super::SimulationError;
+use crate::model::Law;
+use nalgebra::{DMatrix, DVector};
+
+/// A static equilibrium and its sensitivities.
+#[derive(Debug, Clone)]
+pub struct Equilibrium {
+    /// Generalized coordinates at equilibrium.
+    pub q: Vec<f64>,
+    /// `∂q/∂x_j`, n × r row-major.
+    pub dq: Vec<f64>,
+    /// Newton iterations taken.
+    pub iterations: usize,
+}
+
+/// The static residual `R(q)` (generalized elastic forces minus weights).
+fn residual(sys: &System<'_>, q: &[f64]) -> DVector<f64> {
+    let n = sys.n;
+    let mut r = DVector::zeros(n);
+    for i in 0..n {
+        let row = &sys.a_lin[i * 2 * n..i * 2 * n + n];
+        let kq: f64 = row.iter().zip(q).map(|(a, q)| a * q).sum();
+        r[i] = -kq / sys.minv[i] - sys.minv_gravity[i] / sys.minv[i];
+    }
+    for pr in &sys.power {
+        let (f, _) = power_law(pr.a, pr.m, pr.row.dot(q));
+        pr.row.axpy(f, r.as_mut_slice());
+    }
+    r
+}
+
+/// Solves for the static equilibrium under gravity; `wrt` selects the
+/// parameters whose sensitivities `∂q/∂x` are wanted.
+pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium, SimulationError> {
+    let n = sys.n;
+    let weight_norm = (0..n)
+        .map(|i| (sys.minv_gravity[i] / sys.minv[i]).abs())
+        .fold(0.0, f64::max);
+    let mut q = vec![0.0; n];
+    let mut res = residual(sys, &q);
+    let tol = 1e-13 * weight_norm.max(f64::MIN_POSITIVE);
+    let mut mu = 0.0;
+    let mut iterations = 0;
+    while res.amax() > tol {
+        iterations += 1;
+        if iterations > 200 {
+            return Err(SimulationError::NoEquilibrium {
+                reason: format!(
+                    "Newton did not converge in 200 iterations (residual {:.3e} N)",
+                    res.amax()
+                ),
+            });
+        }
+        let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
+        let scale = kt.diagonal().amax().max(f64::MIN_POSITIVE);
+        let mut accepted = false;
+        for _ in 0..60 {
+            let mut a = kt.clone();
+            for i in 0..n {
+                a[(i, i)] += mu * scale;
+            }
+            if let Some(step) = a.lu().solve(&(-&res)) {
+                let trial: Vec<f64> = q.iter().zip(step.iter()).map(|(q, s)| q + s).collect();
+                let tres = residual(sys, &trial);
+                if tres.norm() < res.norm() && tres.iter().all(|v| v.is_finite()) {
+                    q = trial;
+                    res = tres;
+                    mu = if mu < 1e-12 { 0.0 } else { mu * 0.1 };
+                    accepted = true;
+                    break;
+                }
+            }
+            mu = if mu == 0.0 { 1e-10 } else { mu * 10.0 };
+        }
+        if !accepted {
+            return Err(SimulationError::NoEquilibrium {
+                reason: format!(
+                    "the model cannot carry its weight (residual {:.3e} N); is a body unsupported?",
+                    res.amax()
+                ),
+            });
+        }
+    }
+
+    let r = wrt.len();
+    let mut dq = vec![0.0; n * r];
+    if r > 0 {
+        let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
+        let lu = kt.lu();
+        let mut rhs = DMatrix::zeros(n, r);
+        for (col, &p) in wrt.iter().enumerate() {
+            for usage in &sys.structure.usages[p] {
+                explicit(sys, *usage, &q, &mut rhs, col);
+            }
+        }
+        let sol = lu
+            .solve(&(-rhs))
+            .ok_or_else(|| SimulationError::NoEquilibrium {
+                reason: "the tangent stiffness at equilibrium is singular".into(),
+            })?;
+        for i in 0..n {
+            for j in 0..r {
+                dq[i * r + j] = sol[(i, j)];
+            }
+        }
+    }
+    Ok(Equilibrium { q, dq, iterations })
+}
+
+/// `∂R/∂x` of one usage into column `col`.
+fn explicit(sys: &System<'_>, usage: Usage, q: &[f64], rhs: &mut DMatrix<f64>, col: usize) {
+    let comps = &sys.structure.components;
+    let mut add = |row: &crate::simulation::structure::Row, f: f64| {
+        for (off, c) in &row.blocks {
+            for i in 0..6 {
+                rhs[(off + i, col)] += c[i] * f;
+            }
+        }
+    };
+    match usage {
+        Usage::Stiffness(i) => add(&comps[i].row, comps[i].row.dot(q)),
+        Usage::PowerCoefficient(i) | Usage::PowerExponent(i) => {
+            let Law::Power { a, m } = comps[i].law else {
+                return;
+            };
+            let (a, m) = (a.eval(&sys.params), m.eval(&sys.params));
+            let d = comps[i].row.dot(q);
+            let (f, _) = power_law(1.0, m, d);
+            let force = match usage {
+                Usage::PowerCoefficient(_) => f,
+                _ if d == 0.0 => 0.0,
+                _ => a * f * d.abs().ln(),
+            };
+            add(&comps[i].row, force);
+        }
+        Usage::Mass(b) => {
+            for i in 0..3 {
+                rhs[(6 * b + i, col)] -= sys.structure.gravity_local[b][i];
+            }
+        }
+        Usage::Damping(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {}
+    }
+}

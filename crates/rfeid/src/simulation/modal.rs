@@ -1,0 +1,111 @@
+//! Modal analysis of the model linearised at rest, or at the static
+//! equilibrium under gravity.
+//!
+//! With `M = L Lᵀ` (L diagonal here, since M is), the undamped problem
+//! `K_t φ = ω² M φ` becomes the symmetric `(L⁻¹ K_t L⁻ᵀ) x = ω² x`,
+//! `φ = L⁻ᵀ x` (mass-normalised). Damping ratios are the modal projections
+//! `ζ = φᵀ C φ / (2ω)`: exact for proportional damping, an approximation
+//! otherwise (it neglects the coupling of modes through C).
+//!
+//! A power-law spring `a·sign(δ)|δ|^m` with m > 1 has zero slope at δ = 0:
+//! linearised at rest it contributes no stiffness. The modes it alone would
+//! restrain appear as zero-stiffness modes, which are reported, not an error.
+use super::equilibrium::static_equilibrium;
+use super::system::power_law;
+use super::{SimulationError, Simulator};
+use nalgebra::{DMatrix, SymmetricEigen};
+
+/// One mode.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Mode {
+    /// Undamped natural frequency, Hz (0 for a zero-stiffness mode).
+    pub frequency_hz: f64,
+    /// Modal damping ratio ζ (None for a zero-stiffness mode).
+    pub damping_ratio: Option<f64>,
+    /// True when the linearised stiffness of this mode is zero (to rounding).
+    pub zero_stiffness: bool,
+    /// Mass-normalised shape, one entry per generalized coordinate.
+    pub shape: Vec<f64>,
+}
+
+/// The result of a modal analysis.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ModalAnalysis {
+    /// Modes by increasing frequency.
+    pub modes: Vec<Mode>,
+    /// Whether the linearisation is at the static equilibrium under gravity.
+    pub at_equilibrium: bool,
+    /// Power-law components with zero slope at the linearisation point, as
+    /// `element/component`.
+    pub zero_slope_components: Vec<String>,
+}
+
+/// Linearises at rest (or at equilibrium under gravity) and computes the modes.
+pub fn modal_analysis(
+    sim: &Simulator<'_>,
+    params: &[f64],
+) -> Result<ModalAnalysis, SimulationError> {
+    let model = sim.model();
+    let sys = sim.system(params)?;
+    let n = sys.n;
+    let q = if model.gravity.is_some() {
+        static_equilibrium(&sys, &[])?.q
+    } else {
+        vec![0.0; n]
+    };
+    let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
+    let c = DMatrix::from_row_slice(n, n, &sys.damping_matrix());
+    let linv: Vec<f64> = sys.minv.iter().map(|m| m.sqrt()).collect();
+    let a = DMatrix::from_fn(n, n, |i, j| linv[i] * kt[(i, j)] * linv[j]);
+    let a = (&a + a.transpose()) * 0.5;
+    let eig = SymmetricEigen::new(a);
+    let lam_max = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let modes = order
+        .into_iter()
+        .map(|j| {
+            let lam = eig.eigenvalues[j];
+            let shape: Vec<f64> = (0..n).map(|i| linv[i] * eig.eigenvectors[(i, j)]).collect();
+            let zero = lam <= 1e-10 * lam_max;
+            let omega = lam.max(0.0).sqrt();
+            let damping_ratio = (!zero).then(|| {
+                let phi = nalgebra::DVector::from_column_slice(&shape);
+                (phi.transpose() * &c * &phi)[(0, 0)] / (2.0 * omega)
+            });
+            Mode {
+                frequency_hz: if zero {
+                    0.0
+                } else {
+                    omega / (2.0 * std::f64::consts::PI)
+                },
+                damping_ratio,
+                zero_stiffness: zero,
+                shape,
+            }
+        })
+        .collect();
+    let zero_slope_components = sim
+        .structure()
+        .components
+        .iter()
+        .zip(&sys.power_components())
+        .filter(|(_, pc)| pc.is_some())
+        .filter_map(|(comp, pc)| {
+            let (a, m) = pc.unwrap();
+            let (_, slope) = power_law(a, m, comp.row.dot(&q));
+            (slope == 0.0).then(|| {
+                format!(
+                    "{}/{}",
+                    model.elements[comp.element].name,
+                    crate::model::COMPONENT_NAMES[comp.dof]
+                )
+            })
+        })
+        .collect();
+    Ok(ModalAnalysis {
+        modes,
+        at_equilibrium: model.gravity.is_some(),
+        zero_slope_components,
+    })
+}

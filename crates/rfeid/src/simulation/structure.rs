@@ -1,0 +1,217 @@
+//! Assembly of the parameter-independent maps (SPEC §1, eq. 4–5): the
+//! deformation matrix B (δ = B q), the excitation maps and the sensor maps.
+//!
+//! Every row couples at most two bodies, so rows are stored as at most two
+//! 6-blocks. Body b owns coordinates `6b .. 6b + 6`.
+use crate::model::geometry::{attachment, block_diag, point_direction_row};
+use crate::model::{Attachment, Law, Model, SensorKind, Value};
+use nalgebra::{Matrix3, Vector3};
+
+/// A sparse row over the generalized coordinates: one or two 6-blocks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// `(first coordinate, coefficients)` for each block.
+    pub blocks: Vec<(usize, [f64; 6])>,
+}
+
+impl Row {
+    /// `row · q`.
+    #[inline]
+    pub fn dot(&self, q: &[f64]) -> f64 {
+        // Two partial sums per block break the addition chain.
+        let mut s = [0.0; 2];
+        for (off, c) in &self.blocks {
+            let x = &q[*off..*off + 6];
+            s[0] += c[0] * x[0] + c[2] * x[2] + c[4] * x[4];
+            s[1] += c[1] * x[1] + c[3] * x[3] + c[5] * x[5];
+        }
+        s[0] + s[1]
+    }
+
+    /// `out += alpha · rowᵀ`.
+    #[inline]
+    pub fn axpy(&self, alpha: f64, out: &mut [f64]) {
+        for (off, c) in &self.blocks {
+            for i in 0..6 {
+                out[off + i] += alpha * c[i];
+            }
+        }
+    }
+
+    /// The row as a dense vector of length n.
+    pub fn dense(&self, n: usize) -> Vec<f64> {
+        let mut v = vec![0.0; n];
+        self.axpy(1.0, &mut v);
+        v
+    }
+}
+
+/// One component of one element: its row of B and its coefficients.
+#[derive(Debug, Clone)]
+pub struct ComponentRow {
+    /// Index of the element in [`Model::elements`].
+    pub element: usize,
+    /// Component 0–5 (`ux` … `rz`).
+    pub dof: usize,
+    /// δ_i = row · q (eq. 5).
+    pub row: Row,
+    /// The spring law.
+    pub law: Law,
+    /// The damping c_i.
+    pub damping: Value,
+}
+
+/// One place where a parameter enters the equations of motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Usage {
+    /// Stiffness k of linear component row i.
+    Stiffness(usize),
+    /// Damping c of component row i.
+    Damping(usize),
+    /// Coefficient a of power-law component row i.
+    PowerCoefficient(usize),
+    /// Exponent m of power-law component row i.
+    PowerExponent(usize),
+    /// Mass of body b.
+    Mass(usize),
+    /// Principal moment of inertia `axis` of body b.
+    Inertia(usize, usize),
+    /// Amplitude of term j of excitation e.
+    Amplitude(usize, usize),
+}
+
+/// The parameter-independent structure of a model.
+#[derive(Debug, Clone)]
+pub struct Structure {
+    /// Number of generalized coordinates n.
+    pub n: usize,
+    /// All components, in element order: the rows of B.
+    pub components: Vec<ComponentRow>,
+    /// Generalized force of a unit excitation, per excitation (dense, length n).
+    pub loads: Vec<Vec<f64>>,
+    /// Sensor maps: `y = h · q` (or q̇, q̈), per sensor (dense, length n).
+    pub sensors: Vec<(SensorKind, Vec<f64>)>,
+    /// Gravity in each body's frame, per body (zero without gravity).
+    pub gravity_local: Vec<Vector3<f64>>,
+    /// For each parameter, where it is used.
+    pub usages: Vec<Vec<Usage>>,
+}
+
+impl Structure {
+    /// Assembles B, the excitation maps and the sensor maps of a validated model.
+    pub fn new(model: &Model) -> Structure {
+        let n = model.n_dof();
+        let body_rho = |b: usize, x: &Vector3<f64>| {
+            let body = &model.bodies[b];
+            body.axes.transpose() * (x - body.com)
+        };
+        let mut components = Vec::new();
+        for (ei, el) in model.elements.iter().enumerate() {
+            // Θ_b S(ρ_b) for each end (eq. 4–5).
+            let end = |b: usize| {
+                let body = &model.bodies[b];
+                let theta: Matrix3<f64> = el.axes.transpose() * body.axes;
+                block_diag(&theta) * attachment(&body_rho(b, &el.at))
+            };
+            let ends: Vec<(usize, f64, nalgebra::Matrix6<f64>)> = std::iter::once((el.body, 1.0))
+                .chain(match el.to {
+                    Attachment::Body(p) => Some((p, -1.0)),
+                    Attachment::Ground => None,
+                })
+                .map(|(b, sign)| (b, sign, end(b)))
+                .collect();
+            for comp in &el.components {
+                let blocks = ends
+                    .iter()
+                    .map(|(b, sign, m)| {
+                        let mut c = [0.0; 6];
+                        for (j, cj) in c.iter_mut().enumerate() {
+                            *cj = sign * m[(comp.dof, j)];
+                        }
+                        (6 * b, c)
+                    })
+                    .collect();
+                components.push(ComponentRow {
+                    element: ei,
+                    dof: comp.dof,
+                    row: Row { blocks },
+                    law: comp.law,
+                    damping: comp.damping,
+                });
+            }
+        }
+
+        let point_row =
+            |b: usize, x: &Vector3<f64>, d: &Vector3<f64>, sign: f64, out: &mut [f64]| {
+                let body = &model.bodies[b];
+                let h = point_direction_row(&body.axes, &body_rho(b, x), d);
+                for i in 0..6 {
+                    out[6 * b + i] += sign * h[i];
+                }
+            };
+        let loads = model
+            .excitations
+            .iter()
+            .map(|e| {
+                let mut l = vec![0.0; n];
+                point_row(e.body, &e.at, &e.direction, 1.0, &mut l);
+                if let Some(r) = e.reaction {
+                    point_row(r, &e.at, &e.direction, -1.0, &mut l);
+                }
+                l
+            })
+            .collect();
+        let sensors = model
+            .sensors
+            .iter()
+            .map(|s| {
+                let mut h = vec![0.0; n];
+                point_row(s.body, &s.at, &s.direction, 1.0, &mut h);
+                (s.kind, h)
+            })
+            .collect();
+        let g = model.gravity.unwrap_or_else(Vector3::zeros);
+        let gravity_local = model
+            .bodies
+            .iter()
+            .map(|b| b.axes.transpose() * g)
+            .collect();
+
+        let mut usages = vec![Vec::new(); model.parameters.len()];
+        let mut add = |v: &Value, u: Usage| {
+            if let Value::Param(p) = v {
+                usages[*p].push(u);
+            }
+        };
+        for (i, c) in components.iter().enumerate() {
+            match &c.law {
+                Law::None => {}
+                Law::Linear { k } => add(k, Usage::Stiffness(i)),
+                Law::Power { a, m } => {
+                    add(a, Usage::PowerCoefficient(i));
+                    add(m, Usage::PowerExponent(i));
+                }
+            }
+            add(&c.damping, Usage::Damping(i));
+        }
+        for (b, body) in model.bodies.iter().enumerate() {
+            add(&body.mass, Usage::Mass(b));
+            for (axis, j) in body.inertia.iter().enumerate() {
+                add(j, Usage::Inertia(b, axis));
+            }
+        }
+        for (e, exc) in model.excitations.iter().enumerate() {
+            for (j, term) in exc.signal.terms.iter().enumerate() {
+                add(&term.amplitude, Usage::Amplitude(e, j));
+            }
+        }
+        Structure {
+            n,
+            components,
+            loads,
+            sensors,
+            gravity_local,
+            usages,
+        }
+    }
+}
