@@ -2,5 +2,6 @@
 //! models of machine-tool supporting systems.
 pub mod identification;
 pub mod io;
+pub mod measurement;
 pub mod model;
 pub mod simulation;

@@ -125,6 +125,8 @@ pub struct Parameter {
     pub bounds: Option<(f64, f64)>,
     /// How to show values to a person: a unit symbol and its SI scale.
     pub unit: DisplayUnit,
+    /// Physical dimension, from the places the parameter is used.
+    pub dimension: crate::io::units::Dimension,
 }
 
 /// A unit for showing numbers: `value_shown = value_si / scale`.

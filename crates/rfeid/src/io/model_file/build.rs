@@ -1137,6 +1137,7 @@ fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
             value,
             bounds,
             unit: p.unit.clone(),
+            dimension: *dim,
         });
     }
     Ok(out)

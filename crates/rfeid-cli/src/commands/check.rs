@@ -1,0 +1,144 @@
+//! `rfeid check`: validate and summarise a model.
+use super::common::load;
+use crate::cli::CheckArgs;
+use crate::diagnostics::Failure;
+use crate::format::{sig, table};
+use rfeid::model::{Attachment, Law, Model, COMPONENT_NAMES};
+
+/// Runs the command.
+pub fn run(args: CheckArgs) -> Result<(), Failure> {
+    let model = load(&args.model)?;
+    print!("{}", summary(&model));
+    println!("\n{}: OK", args.model.display());
+    Ok(())
+}
+
+/// A readable summary of a model.
+pub fn summary(model: &Model) -> String {
+    let mut out = String::new();
+    let s = model.sampling;
+    out.push_str(&format!(
+        "{} bodies, {} degrees of freedom, {} elements, {} excitations, {} sensors\n",
+        model.bodies.len(),
+        model.n_dof(),
+        model.elements.len(),
+        model.excitations.len(),
+        model.sensors.len()
+    ));
+    out.push_str(&format!(
+        "sampling: {} s at {} Hz = {} samples; integrator: {} steps per sample\n",
+        sig(s.duration, 6),
+        sig(s.sample_rate, 6),
+        s.n_samples(),
+        s.substeps
+    ));
+    if let Some(g) = model.gravity {
+        out.push_str(&format!(
+            "gravity: [{}, {}, {}] m/s^2 (runs start from static equilibrium)\n",
+            g.x, g.y, g.z
+        ));
+    }
+    out.push_str("\nBodies\n");
+    let value = |v: &rfeid::model::Value| match v {
+        rfeid::model::Value::Fixed(x) => sig(*x, 5),
+        rfeid::model::Value::Param(i) => model.parameters[*i].name.clone(),
+    };
+    let rows: Vec<Vec<String>> = model
+        .bodies
+        .iter()
+        .map(|b| {
+            vec![
+                b.name.clone(),
+                value(&b.mass),
+                b.inertia.iter().map(value).collect::<Vec<_>>().join(", "),
+                format!("({}, {}, {})", b.com.x, b.com.y, b.com.z),
+            ]
+        })
+        .collect();
+    out.push_str(&table(
+        &["body", "mass kg", "J1, J2, J3 kg·m²", "centre of mass m"],
+        &rows,
+    ));
+    out.push_str("\nElements\n");
+    let rows: Vec<Vec<String>> = model
+        .elements
+        .iter()
+        .map(|e| {
+            let to = match e.to {
+                Attachment::Body(p) => model.bodies[p].name.clone(),
+                Attachment::Ground => "ground".into(),
+            };
+            let comps = e
+                .components
+                .iter()
+                .map(|c| {
+                    let law = match c.law {
+                        Law::None => "c only".to_string(),
+                        Law::Linear { k } => format!("k={}", value(&k)),
+                        Law::Power { a, m } => format!("a={} m={}", value(&a), value(&m)),
+                    };
+                    format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
+                })
+                .collect::<Vec<_>>()
+                .join(" ");
+            vec![
+                e.name.clone(),
+                format!("{} → {to}", model.bodies[e.body].name),
+                comps,
+            ]
+        })
+        .collect();
+    out.push_str(&table(&["element", "joins", "components"], &rows));
+    out.push_str("\nSensors\n");
+    let rows: Vec<Vec<String>> = model
+        .sensors
+        .iter()
+        .map(|s| {
+            vec![
+                s.name.clone(),
+                format!("{:?}", s.kind).to_lowercase(),
+                model.bodies[s.body].name.clone(),
+                format!("({}, {}, {})", s.at.x, s.at.y, s.at.z),
+                format!(
+                    "({}, {}, {})",
+                    sig(s.direction.x, 4),
+                    sig(s.direction.y, 4),
+                    sig(s.direction.z, 4)
+                ),
+            ]
+        })
+        .collect();
+    out.push_str(&table(
+        &["sensor", "reads", "body", "at m", "direction"],
+        &rows,
+    ));
+    let identified = model.identified();
+    out.push_str(&format!(
+        "\nParameters ({} identified, {} fixed)\n",
+        identified.len(),
+        model.parameters.len() - identified.len()
+    ));
+    let rows: Vec<Vec<String>> = model
+        .parameters
+        .iter()
+        .map(|p| {
+            let u = &p.unit;
+            let show = |v: f64| sig(v / u.scale, 5);
+            let (lo, hi) = p
+                .bounds
+                .map(|(l, h)| (show(l), show(h)))
+                .unwrap_or(("-".into(), "-".into()));
+            let unit = if u.symbol.is_empty() {
+                p.dimension.to_string()
+            } else {
+                u.symbol.clone()
+            };
+            vec![p.name.clone(), unit, show(p.value), lo, hi]
+        })
+        .collect();
+    out.push_str(&table(
+        &["parameter", "unit", "nominal", "min", "max"],
+        &rows,
+    ));
+    out
+}

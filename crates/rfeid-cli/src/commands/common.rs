@@ -1,0 +1,57 @@
+//! What several commands share: loading a model, `--set`.
+use crate::diagnostics::{model_error, Failure};
+use rfeid::io::model_file::load_model;
+use rfeid::io::units::parse_quantity;
+use rfeid::model::Model;
+use std::path::Path;
+
+/// Loads and validates a model file.
+pub fn load(path: &Path) -> Result<Model, Failure> {
+    load_model(path).map_err(model_error)
+}
+
+/// Applies `NAME=VALUE` settings to parameter values (SI); a value with a
+/// unit must have the parameter's dimension.
+pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<(), Failure> {
+    for s in sets {
+        let (name, value) = s
+            .split_once('=')
+            .ok_or_else(|| Failure::input_msg(format!("--set '{s}': expected NAME=VALUE")))?;
+        let name = name.trim();
+        let i = model.parameter_index(name).ok_or_else(|| {
+            let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
+            Failure::input_msg(format!(
+                "--set: unknown parameter '{name}' (parameters: {})",
+                known.join(", ")
+            ))
+        })?;
+        let q =
+            parse_quantity(value).map_err(|e| Failure::input_msg(format!("--set {name}: {e}")))?;
+        let p = &model.parameters[i];
+        let bare = value.trim().parse::<f64>().is_ok();
+        if !bare && q.dim != p.dimension {
+            return Err(Failure::input_msg(format!(
+                "--set {name}: '{value}' has the dimension {}, but {name} is {}",
+                q.dim, p.dimension
+            )));
+        }
+        if !q.value.is_finite() {
+            return Err(Failure::input_msg(format!(
+                "--set {name}: not a finite number"
+            )));
+        }
+        if let Some((lo, hi)) = p.bounds {
+            if q.value < lo || q.value > hi {
+                tracing::warn!(
+                    "--set {name}: {} lies outside its box [{lo:e}, {hi:e}]",
+                    q.value
+                );
+                eprintln!(
+                    "warning: --set {name}: the value lies outside its box [{lo:e}, {hi:e}] (SI)"
+                );
+            }
+        }
+        params[i] = q.value;
+    }
+    Ok(())
+}

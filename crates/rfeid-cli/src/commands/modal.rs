@@ -1,0 +1,74 @@
+//! `rfeid modal`: modes of the linearised model.
+use super::common::{apply_sets, load};
+use crate::cli::ModalArgs;
+use crate::diagnostics::Failure;
+use crate::format::{sig, table};
+use rfeid::simulation::modal::modal_analysis;
+use rfeid::simulation::Simulator;
+
+/// Runs the command.
+pub fn run(args: ModalArgs) -> Result<(), Failure> {
+    let model = load(&args.model)?;
+    let mut params = model.nominal();
+    apply_sets(&model, &args.set, &mut params)?;
+    let sim = Simulator::new(&model);
+    let modal = modal_analysis(&sim, &params)
+        .map_err(|e| Failure::failed(format!("modal analysis failed: {e}")))?;
+    println!(
+        "Modes of the model linearised {}",
+        if modal.at_equilibrium {
+            "at its static equilibrium under gravity"
+        } else {
+            "at rest"
+        }
+    );
+    let rows: Vec<Vec<String>> = modal
+        .modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            vec![
+                format!("{}", i + 1),
+                if m.zero_stiffness {
+                    "0 (zero stiffness)".into()
+                } else {
+                    sig(m.frequency_hz, 5)
+                },
+                m.damping_ratio
+                    .map(|z| sig(100.0 * z, 3))
+                    .unwrap_or_else(|| "-".into()),
+            ]
+        })
+        .collect();
+    print!("{}", table(&["mode", "frequency Hz", "damping %"], &rows));
+    if !modal.zero_slope_components.is_empty() {
+        println!(
+            "\nnote: these power-law springs have zero slope at the linearisation point and add no stiffness to it: {}",
+            modal.zero_slope_components.join(", ")
+        );
+        println!("      their stiffness grows with deformation, so the frequencies under load are higher.");
+    }
+    if modal.modes.iter().any(|m| m.zero_stiffness) {
+        println!("note: zero-stiffness modes are rigid-body motions that no linear spring restrains at this point.");
+    }
+    println!("damping ratios are modal projections φᵀCφ/(2ω): exact for proportional damping, approximate otherwise.");
+    if args.shapes {
+        let names: Vec<String> = model
+            .bodies
+            .iter()
+            .flat_map(|b| ["u1", "u2", "u3", "φ1", "φ2", "φ3"].map(|c| format!("{}.{c}", b.name)))
+            .collect();
+        for (i, m) in modal.modes.iter().enumerate() {
+            let peak = m
+                .shape
+                .iter()
+                .fold(0.0_f64, |a, v| a.max(v.abs()))
+                .max(f64::MIN_POSITIVE);
+            println!("\nmode {} shape (scaled to a peak of 1):", i + 1);
+            for (n, v) in names.iter().zip(&m.shape) {
+                println!("  {n:<14} {:>8.4}", v / peak);
+            }
+        }
+    }
+    Ok(())
+}
