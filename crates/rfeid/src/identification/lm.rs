@@ -38,8 +38,9 @@
 //! See [`StopReason`]: converged on the gradient (step 2), on the step
 //! (`‖u⁺ − u‖₂ ≤ step_tolerance (‖u‖₂ + step_tolerance)`), on the cost (actual
 //! and predicted relative decrease both `≤ cost_tolerance`, or J = 0), the
-//! iteration limit, or no progress (λ beyond `max_damping`, or repeated
-//! evaluation failures shrank the step to nothing).
+//! iteration limit, no progress (λ beyond `max_damping`), or evaluation
+//! failures (trials kept failing until the step became negligible: the
+//! search is stuck at the edge of the region where the problem evaluates).
 //!
 //! # Reference
 //!
@@ -358,9 +359,17 @@ impl LevenbergMarquardt {
         let n = cur.u.len();
         let u_norm = cur.u.iter().map(|v| v * v).sum::<f64>().sqrt();
         let mut step = DVector::zeros(n);
+        // Whether a trial of this iteration failed to evaluate, and whether
+        // the latest one did.
+        let mut any_failed = false;
+        let mut last_failed = false;
         loop {
             if run.lambda > s.max_damping {
-                return Inner::Stop(StopReason::NoProgress);
+                return Inner::Stop(if last_failed {
+                    StopReason::EvaluationFailures
+                } else {
+                    StopReason::NoProgress
+                });
             }
             let Some(delta) = solver.step(run.lambda) else {
                 run.reject();
@@ -381,12 +390,14 @@ impl LevenbergMarquardt {
                 Ok(c) => c,
                 Err(e) => {
                     run.fail(e);
+                    (any_failed, last_failed) = (true, true);
                     if small_step {
-                        return Inner::Stop(StopReason::NoProgress);
+                        return Inner::Stop(StopReason::EvaluationFailures);
                     }
                     continue;
                 }
             };
+            last_failed = false;
             let actual = cur.cost - trial_cost;
             let cost_small = actual.abs() <= s.cost_tolerance * cur.cost
                 && predicted <= s.cost_tolerance * cur.cost;
@@ -406,13 +417,16 @@ impl LevenbergMarquardt {
                 Ok(c) => trial.cost = c,
                 Err(e) => {
                     run.fail(e);
+                    (any_failed, last_failed) = (true, true);
                     continue;
                 }
             }
             let rho = if predicted > 0.0 { actual / predicted } else { 1.0 };
             run.accept(rho);
             std::mem::swap(cur, trial);
-            let pending = if small_step {
+            let pending = if small_step && any_failed {
+                Some(StopReason::EvaluationFailures)
+            } else if small_step {
                 Some(StopReason::ConvergedStep)
             } else if cost_small {
                 Some(StopReason::ConvergedCost)

@@ -25,6 +25,10 @@ pub enum StopReason {
     /// No step decreased J: Levenberg–Marquardt rejected a step at the
     /// maximal damping, or the line search of eq. 20 found no decrease.
     NoProgress,
+    /// Steps towards lower J kept failing to evaluate until they became
+    /// negligible (or the damping maximal): the search stopped at the edge of
+    /// the region where the problem can be evaluated, not at a minimum.
+    EvaluationFailures,
     /// The finite-difference gradient (BFGS) could not be formed: the
     /// evaluations on both sides of the point failed for some variable.
     GradientUnavailable,
@@ -52,6 +56,9 @@ impl fmt::Display for StopReason {
             }
             StopReason::MaxIterations => "stopped: the iteration limit was reached",
             StopReason::NoProgress => "stopped: no step could decrease the criterion",
+            StopReason::EvaluationFailures => {
+                "stopped: steps towards a lower criterion failed to evaluate (edge of the feasible region)"
+            }
             StopReason::GradientUnavailable => {
                 "stopped: the finite-difference gradient could not be evaluated"
             }
