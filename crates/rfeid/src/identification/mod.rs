@@ -15,6 +15,8 @@ pub mod bfgs;
 pub mod lm;
 pub mod plan;
 pub mod plan_eval;
+mod fd_gradient;
+mod line_search;
 mod lm_step;
 pub mod problem;
 pub mod settings;

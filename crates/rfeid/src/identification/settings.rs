@@ -25,19 +25,6 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<f64, SettingsEr
     }
 }
 
-/// `value` must be finite and ≥ 0.
-pub(crate) fn non_negative(name: &'static str, value: f64) -> Result<f64, SettingsError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(value)
-    } else {
-        Err(SettingsError {
-            name,
-            value,
-            requirement: "finite and >= 0",
-        })
-    }
-}
-
 /// `value` must lie in the open interval (0, 1).
 pub(crate) fn in_unit_interval(name: &'static str, value: f64) -> Result<f64, SettingsError> {
     if value > 0.0 && value < 1.0 {
