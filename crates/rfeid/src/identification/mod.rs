@@ -1,7 +1,24 @@
 //! Identification: LP_τ plan, local search and Cramér–Rao bounds (paper §3).
+//!
+//! Everything here works on a generic least-squares problem
+//! ([`problem::LeastSquares`]) in normalised coordinates `u ∈ [0, 1]^r`
+//! (eq. 17) and knows nothing of models or simulators:
+//!
+//! - [`plan`] builds LP_τ (Sobol) plans (eq. 18–19) and [`plan_eval`]
+//!   evaluates J (eq. 16) at their points in parallel;
+//! - [`lm`] (Levenberg–Marquardt with the exact Jacobian) and [`bfgs`] (the
+//!   paper's BFGS with finite-difference gradients, eq. 20–25) search locally
+//!   inside the box, and end with a [`termination::StopReason`];
+//! - [`uncertainty`] turns the Jacobian at the estimate into Cramér–Rao
+//!   bounds (eq. 26–29) and identifiability warnings.
 pub mod bfgs;
 pub mod lm;
 pub mod plan;
+pub mod plan_eval;
+mod fd_gradient;
+mod line_search;
+mod lm_step;
 pub mod problem;
+pub mod settings;
 pub mod termination;
 pub mod uncertainty;
