@@ -26,6 +26,14 @@ pub enum Command {
         after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o knee.csv --noise 0.02 --seed 1\n  rfeid simulate model.toml -o stiff.csv --set a_n1=\"450 daN/um^2\""
     )]
     Simulate(SimulateArgs),
+    /// Identify the parameters that have a box from measured signals.
+    #[command(
+        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o data.csv --noise 0.02 --seed 1\n  rfeid identify examples/knee-column/model.toml --data data.csv -o result.json"
+    )]
+    Identify(IdentifyArgs),
+    /// The paper's example end to end: simulate the knee–column benchmark, then identify its 16 joint parameters.
+    #[command(after_help = "Example:\n  rfeid demo\n  rfeid demo --noise 0.02 --seed 3 --timings")]
+    Demo(DemoArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
@@ -71,4 +79,81 @@ pub struct ModalArgs {
     /// Also print the mode shapes.
     #[arg(long)]
     pub shapes: bool,
+}
+
+/// Settings shared by `identify` and `demo`.
+#[derive(Debug, Args)]
+pub struct SearchArgs {
+    /// Points of the LP_τ (Sobol) plan over the parameter box.
+    #[arg(long, default_value_t = 100)]
+    pub plan: usize,
+    /// Run the local search from the best K plan points and keep the best result.
+    #[arg(long, default_value_t = 1, value_name = "K")]
+    pub starts: usize,
+    /// Local search: Levenberg–Marquardt with exact sensitivities, or the paper's BFGS.
+    #[arg(long, value_enum, default_value_t = MethodArg::Lm)]
+    pub method: MethodArg,
+    /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance.
+    #[arg(long, value_enum, default_value_t = WeightsArg::Equal)]
+    pub weights: WeightsArg,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Ignore the record before this time, s (the transient from an unknown initial state).
+    #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+    pub from: f64,
+    /// Print the wall time of each phase.
+    #[arg(long)]
+    pub timings: bool,
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodArg {
+    /// Levenberg–Marquardt.
+    Lm,
+    /// BFGS with finite-difference gradients (eq. 20–25).
+    Bfgs,
+}
+
+/// `--weights`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum WeightsArg {
+    /// w = 1 for every sensor.
+    Equal,
+    /// w = 1/σ² per sensor, estimated and iterated.
+    Estimated,
+}
+
+/// `rfeid identify`.
+#[derive(Debug, Args)]
+pub struct IdentifyArgs {
+    /// The model file (TOML); parameters with `min` and `max` are identified.
+    pub model: PathBuf,
+    /// Measured signals: CSV with `time` and one column per sensor.
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Result file (JSON).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Search settings.
+    #[command(flatten)]
+    pub search: SearchArgs,
+}
+
+/// `rfeid demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Add Gaussian noise of standard deviation FRAC × RMS to the simulated data.
+    #[arg(long, value_name = "FRAC")]
+    pub noise: Option<f64>,
+    /// Seed of the noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Also write the result (JSON).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Search settings.
+    #[command(flatten)]
+    pub search: SearchArgs,
 }

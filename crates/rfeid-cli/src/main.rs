@@ -14,6 +14,8 @@ fn main() -> ExitCode {
         cli::Command::Check(a) => commands::check::run(a),
         cli::Command::Simulate(a) => commands::simulate::run(a),
         cli::Command::Modal(a) => commands::modal::run(a),
+        cli::Command::Identify(a) => commands::identify::run(a),
+        cli::Command::Demo(a) => commands::demo::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

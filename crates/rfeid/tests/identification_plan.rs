@@ -99,7 +99,10 @@ fn bad_plan_requests_are_errors() {
         })
     );
     let g = LpTau::new(2).unwrap();
-    assert!(matches!(g.plan_range(0, 5), Err(PlanError::IndexOutOfRange { .. })));
+    assert!(matches!(
+        g.plan_range(0, 5),
+        Err(PlanError::IndexOutOfRange { .. })
+    ));
     assert!(matches!(
         g.plan_range(1 << 53, 1),
         Err(PlanError::IndexOutOfRange { .. })
@@ -156,7 +159,10 @@ fn plan_evaluation_is_bit_identical_for_any_thread_count() {
         assert!(one.outcomes[k].is_ok());
     }
     for &k in &one.ranking[plan.len() - expected_failed..] {
-        assert!(matches!(one.outcomes[k], Err(EvalError::Problem(Diverged(_)))));
+        assert!(matches!(
+            one.outcomes[k],
+            Err(EvalError::Problem(Diverged(_)))
+        ));
     }
     let costs: Vec<f64> = one.best_few(usize::MAX).iter().map(|b| b.1).collect();
     assert!(costs.windows(2).all(|w| w[0] <= w[1]));

@@ -1,5 +1,7 @@
 //! One module per command.
 pub mod check;
 pub mod common;
+pub mod demo;
+pub mod identify;
 pub mod modal;
 pub mod simulate;

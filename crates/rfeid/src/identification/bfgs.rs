@@ -459,9 +459,19 @@ impl Bfgs {
     }
 
     /// The update of eq. 23 on the free variables; returns whether B changed.
-    fn update(&self, b: &mut DMatrix<f64>, ds: &[f64], dv: &[f64], active: &[bool], fresh: bool) -> bool {
+    fn update(
+        &self,
+        b: &mut DMatrix<f64>,
+        ds: &[f64],
+        dv: &[f64],
+        active: &[bool],
+        fresh: bool,
+    ) -> bool {
         let mask = |v: &[f64]| {
-            DVector::from_iterator(v.len(), v.iter().zip(active).map(|(&x, &a)| if a { 0.0 } else { x }))
+            DVector::from_iterator(
+                v.len(),
+                v.iter().zip(active).map(|(&x, &a)| if a { 0.0 } else { x }),
+            )
         };
         let (dx, dv) = (mask(ds), mask(dv));
         let sy = dx.dot(&dv);

@@ -291,9 +291,7 @@ impl LevenbergMarquardt {
             update_scale(&col_norms, &mut scale);
             let g = cur.jac.tr_mul(&DVectorView::from_slice(&cur.r, m));
             let free: Vec<usize> = (0..n)
-                .filter(|&j| {
-                    !((cur.u[j] <= 0.0 && g[j] > 0.0) || (cur.u[j] >= 1.0 && g[j] < 0.0))
-                })
+                .filter(|&j| !((cur.u[j] <= 0.0 && g[j] > 0.0) || (cur.u[j] >= 1.0 && g[j] < 0.0)))
                 .collect();
             let r_norm = cur.cost.sqrt();
             let cosine = free
@@ -309,7 +307,9 @@ impl LevenbergMarquardt {
             }
             iterations += 1;
             let solver = DampedSolver::new(&cur.jac, &cur.r, &free, &scale);
-            let inner = self.inner_loop(problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run);
+            let inner = self.inner_loop(
+                problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run,
+            );
             observer(iterations, cur.cost);
             match inner {
                 Inner::Accepted(pending) => {
@@ -421,7 +421,11 @@ impl LevenbergMarquardt {
                     continue;
                 }
             }
-            let rho = if predicted > 0.0 { actual / predicted } else { 1.0 };
+            let rho = if predicted > 0.0 {
+                actual / predicted
+            } else {
+                1.0
+            };
             run.accept(rho);
             std::mem::swap(cur, trial);
             let pending = if small_step && any_failed {

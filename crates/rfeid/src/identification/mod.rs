@@ -12,13 +12,16 @@
 //! - [`uncertainty`] turns the Jacobian at the estimate into Cramér–Rao
 //!   bounds (eq. 26–29) and identifiability warnings.
 pub mod bfgs;
-pub mod lm;
-pub mod plan;
-pub mod plan_eval;
 mod fd_gradient;
 mod line_search;
+pub mod lm;
 mod lm_step;
+pub mod output_error;
+pub mod pipeline;
+pub mod plan;
+pub mod plan_eval;
 pub mod problem;
+pub mod result;
 pub mod settings;
 pub mod termination;
 pub mod uncertainty;

@@ -107,7 +107,11 @@ impl LpTau {
     /// # Panics
     /// If `out.len() != self.dims()` or `index > MAX_INDEX`.
     pub fn point_into(&self, index: u64, out: &mut [f64]) {
-        assert_eq!(out.len(), self.dims, "output length must equal the dimension");
+        assert_eq!(
+            out.len(),
+            self.dims,
+            "output length must equal the dimension"
+        );
         assert!(index <= MAX_INDEX, "Sobol index beyond 2^53 - 1");
         // 2^-64: the direction numbers are left-aligned in 64 bits.
         const SCALE: f64 = 1.0 / 18_446_744_073_709_551_616.0;

@@ -332,7 +332,11 @@ fn analyse(
     let cov_s = &v_scaled * v.transpose();
     let s2 = ssr / (n_obs - r - 1) as f64;
     // Physical column norms c_j = ‖h_j‖ |factor_j|.
-    let c: Vec<f64> = norms.iter().zip(factors).map(|(n, f)| n * f.abs()).collect();
+    let c: Vec<f64> = norms
+        .iter()
+        .zip(factors)
+        .map(|(n, f)| n * f.abs())
+        .collect();
     let covariance = DMatrix::from_fn(r, r, |i, j| s2 * cov_s[(i, j)] / (c[i] * c[j]));
     let std_errors: Vec<f64> = (0..r).map(|i| covariance[(i, i)].sqrt()).collect();
     let correlation = DMatrix::from_fn(r, r, |i, j| {
@@ -349,7 +353,13 @@ fn analyse(
     }
     let raw = rc.singular_values();
     let condition_number_raw = (raw.max() / raw.min()).powi(2);
-    let warnings = warnings(&std_errors, &correlation, condition_number, box_widths, settings);
+    let warnings = warnings(
+        &std_errors,
+        &correlation,
+        condition_number,
+        box_widths,
+        settings,
+    );
     Ok(CramerRao {
         n_observations: n_obs,
         n_parameters: r,

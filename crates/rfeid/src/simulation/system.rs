@@ -61,6 +61,10 @@ pub struct System<'a> {
     pub minv_loads: Vec<Vec<f64>>,
     /// `M⁻¹ × weight` (constant), n.
     pub minv_gravity: Vec<f64>,
+    /// Per component row i: the nonzero entries of `M⁻¹ B_iᵀ` as (coordinate, value).
+    comp_minv: Vec<Vec<(usize, f64)>>,
+    /// Per component row: `(a, m)` of a power law (unused otherwise).
+    comp_power: Vec<(f64, f64)>,
 }
 
 impl<'a> System<'a> {
@@ -155,7 +159,30 @@ impl<'a> System<'a> {
             .iter()
             .map(|l| l.iter().zip(&minv).map(|(x, m)| x * m).collect())
             .collect();
+        let comp_minv = structure
+            .components
+            .iter()
+            .map(|c| {
+                c.row
+                    .blocks
+                    .iter()
+                    .flat_map(|(off, co)| (0..6).map(move |i| (off + i, co[i])))
+                    .filter(|(_, v)| *v != 0.0)
+                    .map(|(k, v)| (k, v * minv[k]))
+                    .collect()
+            })
+            .collect();
+        let comp_power = structure
+            .components
+            .iter()
+            .map(|c| match c.law {
+                Law::Power { a, m } => (a.eval(params), m.eval(params)),
+                _ => (0.0, 1.0),
+            })
+            .collect();
         Ok(System {
+            comp_minv,
+            comp_power,
             structure,
             model,
             params: params.to_vec(),
@@ -299,6 +326,7 @@ impl<'a> System<'a> {
     }
 
     /// Adds `∂a/∂x` for one usage of a parameter into column `col` of `dacc`.
+    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn explicit(
         &self,
@@ -312,39 +340,23 @@ impl<'a> System<'a> {
     ) {
         let n = self.n;
         let comps = &self.structure.components;
-        let mut add_row = |row: &Row, force: f64| {
-            // −M⁻¹ rowᵀ force
-            for (off, c) in &row.blocks {
-                for i in 0..6 {
-                    dacc[(off + i) * r + col] -= self.minv[off + i] * c[i] * force;
-                }
+        // A component's force f contributes −M⁻¹ B_iᵀ f.
+        let (i, force) = match usage {
+            Usage::Stiffness(i) => (i, comps[i].row.dot(&y[..n])),
+            Usage::Damping(i) => (i, comps[i].row.dot(&y[n..])),
+            Usage::PowerCoefficient(i) => {
+                let (_, m) = self.comp_power[i];
+                (i, power_law(1.0, m, comps[i].row.dot(&y[..n])).0)
             }
-        };
-        match usage {
-            Usage::Stiffness(i) => {
-                let row = &comps[i].row;
-                add_row(row, row.dot(&y[..n]));
-            }
-            Usage::Damping(i) => {
-                let row = &comps[i].row;
-                add_row(row, row.dot(&y[n..]));
-            }
-            Usage::PowerCoefficient(i) | Usage::PowerExponent(i) => {
-                let row = &comps[i].row;
-                let Law::Power { a, m } = comps[i].law else {
-                    return;
-                };
-                let (a, m) = (a.eval(&self.params), m.eval(&self.params));
-                let d = row.dot(&y[..n]);
-                let (f, _) = power_law(1.0, m, d);
-                let force = if matches!(usage, Usage::PowerCoefficient(_)) {
-                    f
-                } else if d == 0.0 {
+            Usage::PowerExponent(i) => {
+                let (a, m) = self.comp_power[i];
+                let d = comps[i].row.dot(&y[..n]);
+                let f = if d == 0.0 {
                     0.0
                 } else {
-                    a * f * d.abs().ln()
+                    a * power_law(1.0, m, d).0 * d.abs().ln()
                 };
-                add_row(row, force);
+                (i, f)
             }
             Usage::Mass(b) => {
                 let m = self.model.bodies[b].mass.eval(&self.params);
@@ -352,10 +364,12 @@ impl<'a> System<'a> {
                     let k = 6 * b + i;
                     dacc[k * r + col] += (self.minv_gravity[k] - acc[k]) / m;
                 }
+                return;
             }
             Usage::Inertia(b, axis) => {
                 let k = 6 * b + 3 + axis;
                 dacc[k * r + col] -= acc[k] * self.minv[k];
+                return;
             }
             Usage::Amplitude(e, j) => {
                 let s = self.model.excitations[e].signal.terms[j].shape.at(t);
@@ -364,6 +378,12 @@ impl<'a> System<'a> {
                         dacc[k * r + col] += s * l;
                     }
                 }
+                return;
+            }
+        };
+        if force != 0.0 {
+            for &(k, g) in &self.comp_minv[i] {
+                dacc[k * r + col] -= g * force;
             }
         }
     }

@@ -1,0 +1,229 @@
+//! The output-error criterion of a model against measured signals
+//! (eq. 10–16) as a [`LeastSquares`] problem in normalised coordinates.
+//!
+//! Residuals are `r_ck = √w_c (g_ck(x) − y_ck)` for every sensor c and every
+//! sample k from the first used one, so `J = Σ r²` is eq. 13 with
+//! `R⁻¹ = diag(w_c)`, and eq. 16 for `w_c = 1`. The parameters are
+//! `x = x_min + u (x_max − x_min)` (eq. 17); the Jacobian comes from the
+//! forward sensitivities ([`crate::simulation::run`]).
+use super::problem::LeastSquares;
+use crate::model::Model;
+use crate::simulation::{Response, Sensitivities, SimulationError, Simulator, Workspace};
+use nalgebra::DMatrix;
+
+/// Model, data and weighting: the criterion J(u).
+#[derive(Debug, Clone)]
+pub struct OutputError<'m> {
+    sim: Simulator<'m>,
+    measured: Response,
+    /// Identified parameters (indices into the model's parameters).
+    wrt: Vec<usize>,
+    lower: Vec<f64>,
+    width: Vec<f64>,
+    /// Values of all parameters; the identified ones are overwritten.
+    base: Vec<f64>,
+    /// √w_c per sensor.
+    sqrt_weights: Vec<f64>,
+    /// First sample used (`--from`).
+    first: usize,
+}
+
+/// Scratch memory of one evaluation.
+#[derive(Debug, Clone)]
+pub struct OutputErrorWorkspace {
+    sim: Workspace,
+    response: Response,
+    sens: Sensitivities,
+    params: Vec<f64>,
+}
+
+impl<'m> OutputError<'m> {
+    /// The criterion for the model's identified parameters; `measured` must
+    /// have the model's sensors and sampling ([`crate::measurement::match_data`]).
+    pub fn new(sim: Simulator<'m>, measured: Response, first: usize) -> Self {
+        let model: &Model = sim.model();
+        let wrt = model.identified();
+        let (lower, width) = wrt
+            .iter()
+            .map(|&i| {
+                let (lo, hi) = model.parameters[i]
+                    .bounds
+                    .expect("identified parameters have boxes");
+                (lo, hi - lo)
+            })
+            .unzip();
+        let n_sensors = measured.n_sensors;
+        OutputError {
+            base: model.nominal(),
+            sim,
+            measured,
+            wrt,
+            lower,
+            width,
+            sqrt_weights: vec![1.0; n_sensors],
+            first,
+        }
+    }
+
+    /// Sets the per-sensor weights w_c (eq. 13 with a diagonal R).
+    pub fn set_weights(&mut self, weights: &[f64]) {
+        self.sqrt_weights = weights.iter().map(|w| w.sqrt()).collect();
+    }
+
+    /// The per-sensor weights w_c.
+    pub fn weights(&self) -> Vec<f64> {
+        self.sqrt_weights.iter().map(|s| s * s).collect()
+    }
+
+    /// The identified parameters (model indices).
+    pub fn wrt(&self) -> &[usize] {
+        &self.wrt
+    }
+
+    /// Box widths `x_max − x_min`.
+    pub fn widths(&self) -> &[f64] {
+        &self.width
+    }
+
+    /// Physical parameter values (identified ones only) at u.
+    pub fn to_physical(&self, u: &[f64]) -> Vec<f64> {
+        u.iter()
+            .zip(&self.lower)
+            .zip(&self.width)
+            .map(|((u, lo), w)| lo + u * w)
+            .collect()
+    }
+
+    /// Normalised coordinates of physical values.
+    pub fn to_normalised(&self, x: &[f64]) -> Vec<f64> {
+        x.iter()
+            .zip(&self.lower)
+            .zip(&self.width)
+            .map(|((x, lo), w)| (x - lo) / w)
+            .collect()
+    }
+
+    /// The simulator.
+    pub fn simulator(&self) -> &Simulator<'m> {
+        &self.sim
+    }
+
+    /// The measured signals.
+    pub fn measured(&self) -> &Response {
+        &self.measured
+    }
+
+    /// First sample used.
+    pub fn first_sample(&self) -> usize {
+        self.first
+    }
+
+    /// Samples used per sensor.
+    pub fn samples_used(&self) -> usize {
+        self.measured.n_samples - self.first
+    }
+
+    /// All parameter values at u.
+    pub fn all_params(&self, u: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&self.base);
+        for ((&i, &u), (&lo, &w)) in self
+            .wrt
+            .iter()
+            .zip(u)
+            .zip(self.lower.iter().zip(&self.width))
+        {
+            out[i] = lo + u * w;
+        }
+    }
+
+    /// The simulated response at u.
+    pub fn simulate(&self, u: &[f64]) -> Result<Response, SimulationError> {
+        let mut ws = self.workspace();
+        self.all_params(u, &mut ws.params);
+        self.sim.run(&ws.params, &mut ws.sim, &mut ws.response)?;
+        Ok(ws.response)
+    }
+
+    fn fill_residuals(&self, response: &Response, r: &mut [f64]) {
+        let n = response.n_samples;
+        let used = n - self.first;
+        for c in 0..response.n_sensors {
+            let g = &response.sensor(c)[self.first..];
+            let y = &self.measured.sensor(c)[self.first..];
+            let w = self.sqrt_weights[c];
+            for ((ri, gi), yi) in r[c * used..(c + 1) * used].iter_mut().zip(g).zip(y) {
+                *ri = w * (gi - yi);
+            }
+        }
+    }
+}
+
+impl LeastSquares for OutputError<'_> {
+    type Workspace = OutputErrorWorkspace;
+    type Error = SimulationError;
+
+    fn n_params(&self) -> usize {
+        self.wrt.len()
+    }
+
+    fn n_residuals(&self) -> usize {
+        self.measured.n_sensors * self.samples_used()
+    }
+
+    fn workspace(&self) -> OutputErrorWorkspace {
+        OutputErrorWorkspace {
+            sim: Workspace::default(),
+            response: self.sim.response_buffer(),
+            sens: Sensitivities {
+                wrt: Vec::new(),
+                values: Vec::new(),
+            },
+            params: Vec::with_capacity(self.base.len()),
+        }
+    }
+
+    fn residuals(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        u: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), SimulationError> {
+        self.all_params(u, &mut ws.params);
+        self.sim.run(&ws.params, &mut ws.sim, &mut ws.response)?;
+        self.fill_residuals(&ws.response, r);
+        Ok(())
+    }
+
+    fn residuals_jacobian(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        u: &[f64],
+        r: &mut [f64],
+        jac: &mut DMatrix<f64>,
+    ) -> Result<(), SimulationError> {
+        self.all_params(u, &mut ws.params);
+        self.sim.run_with_sensitivities(
+            &ws.params,
+            &self.wrt,
+            &mut ws.sim,
+            &mut ws.response,
+            &mut ws.sens,
+        )?;
+        self.fill_residuals(&ws.response, r);
+        let n = ws.response.n_samples;
+        let used = n - self.first;
+        let p = self.wrt.len();
+        for c in 0..ws.response.n_sensors {
+            let w = self.sqrt_weights[c];
+            for k in self.first..n {
+                let row = c * used + (k - self.first);
+                let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
+                for j in 0..p {
+                    jac[(row, j)] = w * src[j] * self.width[j];
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,387 @@
+//! The whole identification (paper §3): LP_τ plan over the box, local search
+//! from the best point(s), Cramér–Rao bounds at the estimate.
+use super::bfgs::{Bfgs, BfgsSettings};
+use super::lm::{LevenbergMarquardt, LmSettings};
+use super::output_error::OutputError;
+use super::plan::{LpTau, PlanError};
+use super::plan_eval::evaluate_plan;
+use super::problem::{sum_of_squares, LeastSquares};
+use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
+use super::termination::{SolveError, StopReason};
+use super::uncertainty::{cramer_rao_normalised, IdentifiabilityWarning, UncertaintySettings};
+use crate::simulation::SimulationError;
+use nalgebra::DMatrix;
+use std::time::Instant;
+
+/// The local search method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Levenberg–Marquardt with the exact Jacobian.
+    #[default]
+    Lm,
+    /// The paper's BFGS with finite-difference gradients (eq. 20–25).
+    Bfgs,
+}
+
+/// How the sensors are weighted in J (eq. 13).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Weighting {
+    /// w_c = 1, the paper's choice (eq. 14).
+    #[default]
+    Equal,
+    /// w_c = 1/σ_c², with σ_c² estimated from each sensor's residuals after a
+    /// fit; the fit is repeated with the new weights (up to 5 times).
+    EstimatedNoise,
+}
+
+/// Settings of an identification.
+#[derive(Debug, Clone, Default)]
+pub struct Settings {
+    /// N_p, plan points (≥ 1).
+    pub plan_points: usize,
+    /// Local searches from the best few plan points (≥ 1).
+    pub starts: usize,
+    /// Local search method.
+    pub method: Method,
+    /// Sensor weighting.
+    pub weighting: Weighting,
+    /// Levenberg–Marquardt settings.
+    pub lm: LmSettings,
+    /// BFGS settings.
+    pub bfgs: BfgsSettings,
+    /// Uncertainty settings.
+    pub uncertainty: UncertaintySettings,
+}
+
+/// What a caller may watch (progress bars, logs). Every method has a no-op default.
+pub trait Progress: Sync {
+    /// The plan of `points` points starts.
+    fn plan_started(&self, _points: usize) {}
+    /// One plan point is done.
+    fn plan_point(&self) {}
+    /// Local search `k` of `of` starts at criterion `cost`.
+    fn search_started(&self, _k: usize, _of: usize, _cost: f64) {}
+    /// An iteration of the local search ended at criterion `cost`.
+    fn iteration(&self, _iteration: usize, _cost: f64) {}
+}
+
+/// No progress reporting.
+pub struct Silent;
+impl Progress for Silent {}
+
+/// Why an identification could not be done.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum IdentifyError {
+    /// The model has no parameter with a box.
+    #[error("the model has no identified parameters (give a parameter 'min' and 'max')")]
+    NoParameters,
+    /// Zero plan points, or too many dimensions.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    /// Zero starts.
+    #[error("the number of starts must be at least 1")]
+    NoStarts,
+    /// No plan point could be simulated.
+    #[error("all {points} plan points failed to simulate; the first failure: {first}")]
+    AllPlanPointsFailed {
+        /// N_p.
+        points: usize,
+        /// The first failure.
+        first: String,
+    },
+    /// The local search could not start.
+    #[error("local search: {0}")]
+    Solve(String),
+}
+
+/// A finished local search, whichever method.
+struct Search {
+    u: Vec<f64>,
+    cost: f64,
+    stop: StopReason,
+    iterations: usize,
+    residual_evals: usize,
+    jacobian_evals: usize,
+    failed: usize,
+    history: Vec<(usize, f64, Vec<f64>)>,
+}
+
+fn solve_err<E: std::fmt::Display>(e: SolveError<E>) -> IdentifyError {
+    IdentifyError::Solve(e.to_string())
+}
+
+fn local_search(
+    problem: &OutputError<'_>,
+    settings: &Settings,
+    u0: &[f64],
+    progress: &dyn Progress,
+) -> Result<Search, IdentifyError> {
+    let mut observe = |it: usize, cost: f64| progress.iteration(it, cost);
+    match settings.method {
+        Method::Lm => {
+            let r = LevenbergMarquardt::new(settings.lm.clone())
+                .minimize_observed(problem, u0, &mut observe)
+                .map_err(solve_err)?;
+            Ok(Search {
+                u: r.u,
+                cost: r.cost,
+                stop: r.stop_reason,
+                iterations: r.iterations,
+                residual_evals: r.residual_evaluations,
+                jacobian_evals: r.jacobian_evaluations,
+                failed: r.failed_evaluations,
+                history: r
+                    .history
+                    .into_iter()
+                    .map(|h| (h.iteration, h.cost, h.u))
+                    .collect(),
+            })
+        }
+        Method::Bfgs => {
+            let r = Bfgs::new(settings.bfgs.clone())
+                .minimize_observed(problem, u0, &mut observe)
+                .map_err(solve_err)?;
+            Ok(Search {
+                u: r.u,
+                cost: r.cost,
+                stop: r.stop_reason,
+                iterations: r.iterations,
+                residual_evals: r.cost_evaluations,
+                jacobian_evals: 0,
+                failed: r.failed_evaluations,
+                history: r
+                    .history
+                    .into_iter()
+                    .map(|h| (h.iteration, h.cost, h.u))
+                    .collect(),
+            })
+        }
+    }
+}
+
+/// Per-sensor sums of squared unweighted residuals at u.
+fn sensor_ssr(problem: &OutputError<'_>, u: &[f64]) -> Result<Vec<f64>, SimulationError> {
+    let g = problem.simulate(u)?;
+    let y = problem.measured();
+    let first = problem.first_sample();
+    Ok((0..y.n_sensors)
+        .map(|c| {
+            g.sensor(c)[first..]
+                .iter()
+                .zip(&y.sensor(c)[first..])
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum()
+        })
+        .collect())
+}
+
+/// Runs the identification of `problem`'s parameters.
+pub fn identify(
+    mut problem: OutputError<'_>,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Result<IdentificationResult, IdentifyError> {
+    let t_start = Instant::now();
+    let r = problem.n_params();
+    if r == 0 {
+        return Err(IdentifyError::NoParameters);
+    }
+    if settings.starts == 0 {
+        return Err(IdentifyError::NoStarts);
+    }
+    let model = problem.simulator().model();
+
+    // 1. LP_τ plan (eq. 18–19).
+    let plan = LpTau::new(r)?.plan(settings.plan_points)?;
+    progress.plan_started(plan.len());
+    let tick = || progress.plan_point();
+    let evaluation = evaluate_plan(&problem, &plan, Some(&tick))?;
+    let first_failure = evaluation
+        .outcomes
+        .iter()
+        .find_map(|o| o.as_ref().err().map(|e| e.to_string()));
+    if evaluation.all_failed() {
+        return Err(IdentifyError::AllPlanPointsFailed {
+            points: plan.len(),
+            first: first_failure.unwrap_or_default(),
+        });
+    }
+    let t_plan = t_start.elapsed().as_secs_f64();
+
+    // 2. Local search from the best few points; keep the best end.
+    let t_local = Instant::now();
+    let starts = evaluation.best_few(settings.starts);
+    let mut best: Option<Search> = None;
+    let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, evaluation.n_failed);
+    for (k, &(idx, cost)) in starts.iter().enumerate() {
+        progress.search_started(k, starts.len(), cost);
+        let s = local_search(&problem, settings, plan.point(idx), progress)?;
+        sims += s.residual_evals;
+        sims_sens += s.jacobian_evals;
+        failed += s.failed;
+        if best.as_ref().is_none_or(|b| s.cost < b.cost) {
+            best = Some(s);
+        }
+    }
+    let mut best = best.expect("at least one start");
+    if settings.weighting == Weighting::EstimatedNoise {
+        for _ in 0..5 {
+            let ssr =
+                sensor_ssr(&problem, &best.u).map_err(|e| IdentifyError::Solve(e.to_string()))?;
+            sims += 1;
+            let used = problem.samples_used() as f64;
+            let weights: Vec<f64> = ssr
+                .iter()
+                .map(|s| if *s > 0.0 { used / s } else { 1.0 })
+                .collect();
+            let scale = weights.iter().cloned().fold(f64::INFINITY, f64::min);
+            let weights: Vec<f64> = weights.iter().map(|w| w / scale).collect();
+            let change = weights
+                .iter()
+                .zip(problem.weights())
+                .map(|(a, b)| (a / b - 1.0).abs())
+                .fold(0.0, f64::max);
+            problem.set_weights(&weights);
+            if change < 0.01 {
+                break;
+            }
+            let s = local_search(&problem, settings, &best.u, progress)?;
+            sims += s.residual_evals;
+            sims_sens += s.jacobian_evals;
+            failed += s.failed;
+            best = s;
+        }
+    }
+    let t_local = t_local.elapsed().as_secs_f64();
+
+    // 3. Cramér–Rao bounds (eq. 26–29) from the exact Jacobian at the estimate.
+    let t_unc = Instant::now();
+    let n_res = problem.n_residuals();
+    let mut ws = problem.workspace();
+    let mut res = vec![0.0; n_res];
+    let mut jac = DMatrix::zeros(n_res, r);
+    sims_sens += 1;
+    let (uncertainty, unc_error) =
+        match problem.residuals_jacobian(&mut ws, &best.u, &mut res, &mut jac) {
+            Err(e) => (
+                None,
+                Some(format!("the simulation at the estimate failed: {e}")),
+            ),
+            Ok(()) => match cramer_rao_normalised(
+                &jac,
+                sum_of_squares(&res),
+                problem.widths(),
+                &settings.uncertainty,
+            ) {
+                Ok(c) => (Some(c), None),
+                Err(e) => (None, Some(e.to_string())),
+            },
+        };
+    let t_unc = t_unc.elapsed().as_secs_f64();
+
+    let wrt = problem.wrt().to_vec();
+    let names: Vec<&str> = wrt
+        .iter()
+        .map(|&i| model.parameters[i].name.as_str())
+        .collect();
+    let x = problem.to_physical(&best.u);
+    let parameters = wrt
+        .iter()
+        .enumerate()
+        .map(|(j, &i)| {
+            let p = &model.parameters[i];
+            let (min, max) = p.bounds.expect("identified");
+            ParameterEstimate {
+                name: p.name.clone(),
+                unit: p.unit.symbol.clone(),
+                unit_scale: p.unit.scale,
+                estimate: x[j],
+                std_error: uncertainty.as_ref().map(|c| c.std_errors[j]),
+                min,
+                max,
+                nominal: p.value,
+            }
+        })
+        .collect();
+    let warnings = uncertainty
+        .as_ref()
+        .map(|c| c.warnings.iter().map(|w| describe(w, &names)).collect())
+        .unwrap_or_default();
+    let ssr = sensor_ssr(&problem, &best.u)
+        .map(|v| v.iter().sum())
+        .unwrap_or(f64::NAN);
+    let n_obs = n_res;
+    Ok(IdentificationResult {
+        parameters,
+        criterion: best.cost,
+        ssr,
+        s2: (n_obs > r + 1).then(|| sum_of_squares(&res) / (n_obs - r - 1) as f64),
+        observations: n_obs,
+        correlation: uncertainty.as_ref().map(|c| {
+            c.correlation
+                .row_iter()
+                .map(|row| row.iter().copied().collect())
+                .collect()
+        }),
+        condition_number: uncertainty.as_ref().map(|c| c.condition_number),
+        warnings,
+        uncertainty_error: unc_error,
+        method: match settings.method {
+            Method::Lm => "lm".into(),
+            Method::Bfgs => "bfgs".into(),
+        },
+        termination: format!("{:?}", best.stop),
+        termination_message: best.stop.to_string(),
+        iterations: best.iterations,
+        simulations: sims + 1,
+        simulations_with_sensitivities: sims_sens,
+        failed_simulations: failed,
+        weights: problem.weights(),
+        sensors: model.sensors.iter().map(|s| s.name.clone()).collect(),
+        from: model.sampling.time(problem.first_sample()),
+        plan: PlanSummary {
+            points: plan.len(),
+            failed: evaluation.n_failed,
+            costs: evaluation
+                .outcomes
+                .iter()
+                .map(|o| o.as_ref().ok().copied())
+                .collect(),
+            starts: starts.iter().map(|s| s.0).collect(),
+            first_failure,
+        },
+        history: best
+            .history
+            .iter()
+            .map(|(it, cost, u)| Iterate {
+                iteration: *it,
+                cost: *cost,
+                parameters: problem.to_physical(u),
+            })
+            .collect(),
+        timings: Timings {
+            plan: t_plan,
+            local_search: t_local,
+            uncertainty: t_unc,
+            total: t_start.elapsed().as_secs_f64(),
+        },
+        threads: rayon::current_num_threads(),
+    })
+}
+
+/// An identifiability warning in words, with parameter names.
+fn describe(w: &IdentifiabilityWarning, names: &[&str]) -> String {
+    match w {
+        IdentifiabilityWarning::StdErrorExceedsBox { index, std_error, box_width } => format!(
+            "{}: the standard error ({std_error:.3e}) exceeds the width of its box ({box_width:.3e}); the data hardly constrain it",
+            names[*index]
+        ),
+        IdentifiabilityWarning::StrongCorrelation { first, second, correlation } => format!(
+            "{} and {} are correlated ({correlation:+.4}); the data determine mostly a combination of them",
+            names[*first], names[*second]
+        ),
+        IdentifiabilityWarning::IllConditioned { condition_number } => {
+            format!("the scaled Fisher matrix is ill-conditioned (condition number {condition_number:.3e})")
+        }
+    }
+}

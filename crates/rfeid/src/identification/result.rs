@@ -1,0 +1,113 @@
+//! The outcome of an identification, as written to RESULT.json (SPEC §3).
+use serde::{Deserialize, Serialize};
+
+/// One identified parameter, SI.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParameterEstimate {
+    /// Name.
+    pub name: String,
+    /// Unit symbol the model file used for it (empty for SI).
+    pub unit: String,
+    /// SI value of one `unit`.
+    pub unit_scale: f64,
+    /// The estimate x̂.
+    pub estimate: f64,
+    /// Cramér–Rao standard error (eq. 26), if it could be computed.
+    pub std_error: Option<f64>,
+    /// Lower end of the box.
+    pub min: f64,
+    /// Upper end of the box.
+    pub max: f64,
+    /// Nominal value from the model file.
+    pub nominal: f64,
+}
+
+/// The LP_τ plan's outcome.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanSummary {
+    /// N_p.
+    pub points: usize,
+    /// Points whose simulation failed (J = +∞).
+    pub failed: usize,
+    /// J at each point in plan order; `None` where the simulation failed.
+    pub costs: Vec<Option<f64>>,
+    /// Plan indices (0-based) the local searches started from.
+    pub starts: Vec<usize>,
+    /// The first failure's message, if any.
+    pub first_failure: Option<String>,
+}
+
+/// One iterate of the local search that gave the estimate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Iterate {
+    /// Iteration number (0 = start point).
+    pub iteration: usize,
+    /// J.
+    pub cost: f64,
+    /// Identified parameters, SI.
+    pub parameters: Vec<f64>,
+}
+
+/// Wall time of each phase, s.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timings {
+    /// The LP_τ plan.
+    pub plan: f64,
+    /// The local search(es), all starts and reweightings.
+    pub local_search: f64,
+    /// The Cramér–Rao bounds.
+    pub uncertainty: f64,
+    /// Everything.
+    pub total: f64,
+}
+
+/// Everything an identification found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct IdentificationResult {
+    /// The identified parameters.
+    pub parameters: Vec<ParameterEstimate>,
+    /// Final criterion J (eq. 13, with the final weights).
+    pub criterion: f64,
+    /// Sum of squared unweighted residuals.
+    pub ssr: f64,
+    /// s² = SSR/(N − r − 1) (eq. 29), weighted like J.
+    pub s2: Option<f64>,
+    /// Number of scalar observations N (samples × sensors).
+    pub observations: usize,
+    /// Correlation matrix of the estimates.
+    pub correlation: Option<Vec<Vec<f64>>>,
+    /// Condition number of the column-scaled Fisher matrix H₁ᵀH₁.
+    pub condition_number: Option<f64>,
+    /// Identifiability warnings, in words.
+    pub warnings: Vec<String>,
+    /// Why the bounds could not be computed, if they could not.
+    pub uncertainty_error: Option<String>,
+    /// `lm` or `bfgs`.
+    pub method: String,
+    /// Why the local search stopped (machine-readable).
+    pub termination: String,
+    /// Why the local search stopped, in words.
+    pub termination_message: String,
+    /// Iterations of the local search that gave the estimate.
+    pub iterations: usize,
+    /// Simulations run, all phases.
+    pub simulations: usize,
+    /// Of those, simulations with sensitivities.
+    pub simulations_with_sensitivities: usize,
+    /// Simulations that failed (recorded, not fatal).
+    pub failed_simulations: usize,
+    /// Per-sensor weights w_c (eq. 13).
+    pub weights: Vec<f64>,
+    /// Sensor names, in the order of `weights`.
+    pub sensors: Vec<String>,
+    /// Start of the record used, s (`--from`).
+    pub from: f64,
+    /// The plan.
+    pub plan: PlanSummary,
+    /// The local search's history.
+    pub history: Vec<Iterate>,
+    /// Wall time of each phase.
+    pub timings: Timings,
+    /// Worker threads.
+    pub threads: usize,
+}
