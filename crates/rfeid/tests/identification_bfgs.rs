@@ -1,8 +1,11 @@
 //! The BFGS of eq. 20–25 (finite-difference gradients, line search, box) on
 //! test problems with exact answers, with iteration budgets.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 mod common;
 
-use common::{exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE};
+use common::{
+    exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE,
+};
 use nalgebra::{DMatrix, DVector};
 use rfeid::identification::bfgs::{Bfgs, BfgsResult, BfgsSettings};
 use rfeid::identification::problem::EvalError;
@@ -72,9 +75,17 @@ fn bfgs_minimises_a_quadratic_in_about_n_iterations() {
     report("quadratic", &result);
     assert_eq!(result.stop_reason, StopReason::ConvergedGradient);
     for j in 0..4 {
-        assert!((result.u[j] - exact[j]).abs() < 1e-7, "{:?} vs {exact:?}", result.u);
+        assert!(
+            (result.u[j] - exact[j]).abs() < 1e-7,
+            "{:?} vs {exact:?}",
+            result.u
+        );
     }
-    assert!(result.iterations <= 4 + 2, "{} iterations", result.iterations);
+    assert!(
+        result.iterations <= 4 + 2,
+        "{} iterations",
+        result.iterations
+    );
 }
 
 #[test]
@@ -87,12 +98,18 @@ fn bfgs_paper_variant_without_scaling_also_converges() {
     for j in 0..4 {
         assert!((result.u[j] - exact[j]).abs() < 1e-7);
     }
-    assert!(result.iterations <= 4 + 2, "{} iterations", result.iterations);
+    assert!(
+        result.iterations <= 4 + 2,
+        "{} iterations",
+        result.iterations
+    );
 }
 
 #[test]
 fn bfgs_solves_rosenbrock_in_a_box() {
-    let result = Bfgs::default().minimize(&rosenbrock(), &[0.2, 0.75]).unwrap();
+    let result = Bfgs::default()
+        .minimize(&rosenbrock(), &[0.2, 0.75])
+        .unwrap();
     report("rosenbrock", &result);
     assert!(result.stop_reason.is_converged(), "{}", result.stop_reason);
     assert!((result.u[0] - 0.75).abs() < 1e-6 && (result.u[1] - 0.75).abs() < 1e-6);
@@ -130,12 +147,17 @@ fn bfgs_survives_a_failing_region() {
     let result = Bfgs::default().minimize(&problem, &[0.5]).unwrap();
     report("failing region", &result);
     assert!(result.failed_evaluations > 0);
-    assert!(matches!(result.last_failure, Some(EvalError::Problem(Diverged(_)))));
+    assert!(matches!(
+        result.last_failure,
+        Some(EvalError::Problem(Diverged(_)))
+    ));
     assert!(result.u[0] <= 0.95 && result.u[0] > 0.9, "{:?}", result.u);
     assert!(
         matches!(
             result.stop_reason,
-            StopReason::EvaluationFailures | StopReason::GradientUnavailable | StopReason::ConvergedStep
+            StopReason::EvaluationFailures
+                | StopReason::GradientUnavailable
+                | StopReason::ConvergedStep
         ),
         "{}",
         result.stop_reason
@@ -168,9 +190,14 @@ fn bfgs_observer_and_limits() {
     assert_eq!(seen, vec![0, 1, 2]);
     assert!(matches!(
         Bfgs::default().minimize(&rosenbrock(), &[0.2]),
-        Err(SolveError::StartDimension { expected: 2, got: 1 })
+        Err(SolveError::StartDimension {
+            expected: 2,
+            got: 1
+        })
     ));
     assert!(BfgsSettings::default().with_fd_step(0.5).is_err());
     assert!(BfgsSettings::default().with_initial_step(1.0).is_err());
-    assert!(BfgsSettings::default().with_line_search_max_evaluations(1).is_err());
+    assert!(BfgsSettings::default()
+        .with_line_search_max_evaluations(1)
+        .is_err());
 }

@@ -1,8 +1,11 @@
 //! Levenberg–Marquardt on test problems with exact answers, with iteration
 //! budgets (a change that doubles the work should fail here).
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 mod common;
 
-use common::{exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE};
+use common::{
+    exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE,
+};
 use rfeid::identification::lm::{LevenbergMarquardt, LmSettings};
 use rfeid::identification::problem::EvalError;
 use rfeid::identification::termination::{SolveError, StopReason};
@@ -25,7 +28,9 @@ fn lm_fits_exponential_decay_exactly() {
     let problem = exp_decay();
     let exact = to_normalised(&EXP_TRUE, &EXP_BOX);
     for u0 in [[0.1, 0.9], [0.9, 0.05], [0.5, 0.5]] {
-        let result = LevenbergMarquardt::default().minimize(&problem, &u0).unwrap();
+        let result = LevenbergMarquardt::default()
+            .minimize(&problem, &u0)
+            .unwrap();
         report("exp decay", &result);
         assert!(result.stop_reason.is_converged(), "{}", result.stop_reason);
         for j in 0..2 {
@@ -60,11 +65,7 @@ fn lm_solves_rosenbrock_in_a_box() {
 fn lm_stops_on_the_bound_when_the_optimum_is_outside() {
     // r = (u1 − 1.5, u2 − 0.3, 0.1): the unconstrained optimum u1 = 1.5 lies
     // outside the box; the constrained one is (1, 0.3), J = 0.25 + 0.01.
-    let problem = linear(
-        vec![1.0, 0.0, 0.0, 1.0, 0.0, 0.0],
-        vec![1.5, 0.3, -0.1],
-        2,
-    );
+    let problem = linear(vec![1.0, 0.0, 0.0, 1.0, 0.0, 0.0], vec![1.5, 0.3, -0.1], 2);
     let result = LevenbergMarquardt::default()
         .minimize(&problem, &[0.5, 0.5])
         .unwrap();
@@ -123,7 +124,10 @@ fn lm_reports_a_failed_start_and_bad_start_points() {
     ));
     assert!(matches!(
         lm.minimize(&problem, &[0.5, 0.5]),
-        Err(SolveError::StartDimension { expected: 1, got: 2 })
+        Err(SolveError::StartDimension {
+            expected: 1,
+            got: 2
+        })
     ));
     assert!(matches!(
         lm.minimize(&problem, &[1.5]),
@@ -143,7 +147,11 @@ fn lm_non_finite_residuals_count_as_failures() {
         n: 1,
         m: 1,
         residuals: Box::new(|u, r| {
-            r[0] = if u[0] <= 0.5 { (10.0 * (u[0] - 0.2)).atan() } else { f64::NAN };
+            r[0] = if u[0] <= 0.5 {
+                (10.0 * (u[0] - 0.2)).atan()
+            } else {
+                f64::NAN
+            };
             Ok(())
         }),
         jacobian: Box::new(|u, jac| {
@@ -166,11 +174,16 @@ fn lm_observer_sees_every_iteration_and_iteration_limit_holds() {
     let settings = LmSettings::default().with_max_iterations(3).unwrap();
     let mut seen = Vec::new();
     let result = LevenbergMarquardt::new(settings)
-        .minimize_observed(&rosenbrock(), &[0.2, 0.75], &mut |k, cost| seen.push((k, cost)))
+        .minimize_observed(&rosenbrock(), &[0.2, 0.75], &mut |k, cost| {
+            seen.push((k, cost))
+        })
         .unwrap();
     assert_eq!(result.stop_reason, StopReason::MaxIterations);
     assert_eq!(result.iterations, 3);
-    assert_eq!(seen.iter().map(|s| s.0).collect::<Vec<_>>(), vec![0, 1, 2, 3]);
+    assert_eq!(
+        seen.iter().map(|s| s.0).collect::<Vec<_>>(),
+        vec![0, 1, 2, 3]
+    );
     assert_eq!(seen.last().unwrap().1, result.cost);
 }
 
@@ -180,6 +193,8 @@ fn lm_settings_are_validated() {
     assert!(LmSettings::default().with_step_tolerance(-1.0).is_err());
     assert!(LmSettings::default().with_cost_tolerance(f64::NAN).is_err());
     assert!(LmSettings::default().with_initial_damping(1e20).is_err());
-    let e = LmSettings::default().with_gradient_tolerance(0.0).unwrap_err();
+    let e = LmSettings::default()
+        .with_gradient_tolerance(0.0)
+        .unwrap_err();
     assert_eq!(e.name, "gradient_tolerance");
 }

@@ -1,4 +1,5 @@
 //! Cramér–Rao bounds (eq. 26–29) on linear models with closed-form answers.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 use nalgebra::{DMatrix, DVector};
 use rfeid::identification::uncertainty::{
     cramer_rao, cramer_rao_normalised, IdentifiabilityWarning, UncertaintyError,
@@ -28,7 +29,11 @@ fn covariance_of_a_straight_line_fit_matches_the_closed_form() {
     assert!(close(cr.s2, s2, 1e-15));
     for i in 0..2 {
         for j in 0..2 {
-            assert!(close(cr.covariance[(i, j)], expected[i][j], 1e-12), "{}", cr.covariance);
+            assert!(
+                close(cr.covariance[(i, j)], expected[i][j], 1e-12),
+                "{}",
+                cr.covariance
+            );
         }
         assert!(close(cr.std_errors[i], expected[i][i].sqrt(), 1e-12));
         assert_eq!(cr.correlation[(i, i)], 1.0);
@@ -59,7 +64,11 @@ fn covariance_is_accurate_for_wildly_different_parameter_scales() {
     for i in 0..2 {
         for j in 0..2 {
             let expected = base[i][j] * ssr / (k[i] * k[j]);
-            assert!(close(cr.covariance[(i, j)], expected, 1e-12), "{}", cr.covariance);
+            assert!(
+                close(cr.covariance[(i, j)], expected, 1e-12),
+                "{}",
+                cr.covariance
+            );
         }
     }
     assert!(close(cr.std_errors[0], (0.35f64).sqrt() * 1e15, 1e-12));
@@ -115,7 +124,10 @@ fn warnings_for_collinear_pairs_and_wide_standard_errors() {
         .with_correlation_threshold(above)
         .unwrap();
     let cr = cramer_rao(&h, 0.1, None, &loose).unwrap();
-    assert!(cr.warnings.iter().all(|w| !matches!(w, IdentifiabilityWarning::StrongCorrelation { .. })));
+    assert!(cr
+        .warnings
+        .iter()
+        .all(|w| !matches!(w, IdentifiabilityWarning::StrongCorrelation { .. })));
 }
 
 #[test]
@@ -159,7 +171,10 @@ fn invalid_inputs_are_typed_errors() {
     ));
     assert!(matches!(
         cramer_rao(&h, 1.0, Some(&[1.0]), &s),
-        Err(UncertaintyError::BoxCountMismatch { expected: 2, got: 1 })
+        Err(UncertaintyError::BoxCountMismatch {
+            expected: 2,
+            got: 1
+        })
     ));
     assert!(matches!(
         cramer_rao(&h, 1.0, Some(&[1.0, 0.0]), &s),
@@ -171,6 +186,10 @@ fn invalid_inputs_are_typed_errors() {
         cramer_rao(&bad, 1.0, None, &s),
         Err(UncertaintyError::NonFiniteJacobian { row: 3, column: 1 })
     );
-    assert!(UncertaintySettings::default().with_correlation_threshold(1.0).is_err());
-    assert!(UncertaintySettings::default().with_condition_warning(0.5).is_err());
+    assert!(UncertaintySettings::default()
+        .with_correlation_threshold(1.0)
+        .is_err());
+    assert!(UncertaintySettings::default()
+        .with_condition_warning(0.5)
+        .is_err());
 }

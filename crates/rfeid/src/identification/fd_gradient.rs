@@ -55,8 +55,12 @@ impl Scheme {
     fn combine(self, f0: f64, f: [Option<f64>; 2], h: f64) -> Option<f64> {
         match (self, f) {
             (Scheme::Central, [Some(fp), Some(fm)]) => Some((fp - fm) / (2.0 * h)),
-            (Scheme::Forward, [Some(f1), Some(f2)]) => Some((-3.0 * f0 + 4.0 * f1 - f2) / (2.0 * h)),
-            (Scheme::Backward, [Some(f1), Some(f2)]) => Some((3.0 * f0 - 4.0 * f1 + f2) / (2.0 * h)),
+            (Scheme::Forward, [Some(f1), Some(f2)]) => {
+                Some((-3.0 * f0 + 4.0 * f1 - f2) / (2.0 * h))
+            }
+            (Scheme::Backward, [Some(f1), Some(f2)]) => {
+                Some((3.0 * f0 - 4.0 * f1 + f2) / (2.0 * h))
+            }
             // One evaluation failed: first-order quotient with J(u).
             (s, [Some(f1), None]) => {
                 let d = s.offsets(h)[0];

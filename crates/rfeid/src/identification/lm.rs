@@ -291,9 +291,7 @@ impl LevenbergMarquardt {
             update_scale(&col_norms, &mut scale);
             let g = cur.jac.tr_mul(&DVectorView::from_slice(&cur.r, m));
             let free: Vec<usize> = (0..n)
-                .filter(|&j| {
-                    !((cur.u[j] <= 0.0 && g[j] > 0.0) || (cur.u[j] >= 1.0 && g[j] < 0.0))
-                })
+                .filter(|&j| !((cur.u[j] <= 0.0 && g[j] > 0.0) || (cur.u[j] >= 1.0 && g[j] < 0.0)))
                 .collect();
             let r_norm = cur.cost.sqrt();
             let cosine = free
@@ -309,8 +307,17 @@ impl LevenbergMarquardt {
             }
             iterations += 1;
             let solver = DampedSolver::new(&cur.jac, &cur.r, &free, &scale);
-            let inner = self.inner_loop(problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run);
+            let inner = self.inner_loop(
+                problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run,
+            );
             observer(iterations, cur.cost);
+            tracing::debug!(
+                iteration = iterations,
+                cost = cur.cost,
+                damping = run.lambda,
+                free = free.len(),
+                "Levenberg–Marquardt iteration"
+            );
             match inner {
                 Inner::Accepted(pending) => {
                     history.push(LmIterate {
@@ -326,6 +333,7 @@ impl LevenbergMarquardt {
                 Inner::Stop(reason) => break reason,
             }
         };
+        tracing::debug!(%stop_reason, iterations, cost = cur.cost, "Levenberg–Marquardt stopped");
         Ok(LmResult {
             u: cur.u,
             cost: cur.cost,
@@ -421,7 +429,11 @@ impl LevenbergMarquardt {
                     continue;
                 }
             }
-            let rho = if predicted > 0.0 { actual / predicted } else { 1.0 };
+            let rho = if predicted > 0.0 {
+                actual / predicted
+            } else {
+                1.0
+            };
             run.accept(rho);
             std::mem::swap(cur, trial);
             let pending = if small_step && any_failed {

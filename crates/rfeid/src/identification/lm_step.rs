@@ -28,7 +28,12 @@ pub(crate) struct DampedSolver {
 
 impl DampedSolver {
     /// Factorises `J_F` (the free columns of `jac`, listed in `free`).
-    pub(crate) fn new(jac: &DMatrix<f64>, residuals: &[f64], free: &[usize], scale: &[f64]) -> Self {
+    pub(crate) fn new(
+        jac: &DMatrix<f64>,
+        residuals: &[f64],
+        free: &[usize],
+        scale: &[f64],
+    ) -> Self {
         let jf = jac.select_columns(free.iter());
         let qr = jf.qr();
         let mut qtr = DVector::from_column_slice(residuals);

@@ -12,12 +12,12 @@
 //! - [`uncertainty`] turns the Jacobian at the estimate into Cramér–Rao
 //!   bounds (eq. 26–29) and identifiability warnings.
 pub mod bfgs;
-pub mod lm;
-pub mod plan;
-pub mod plan_eval;
 mod fd_gradient;
 mod line_search;
+pub mod lm;
 mod lm_step;
+pub mod plan;
+pub mod plan_eval;
 pub mod problem;
 pub mod settings;
 pub mod termination;

@@ -318,7 +318,8 @@ fn analyse(
     let v = svd.v_t.as_ref().expect("V was requested").transpose();
     let (s_max, s_min) = (sigma[0], sigma[r - 1]);
     let condition_number = (s_max / s_min).powi(2);
-    if !(s_min > settings.singular_tolerance * s_max) {
+    let regular = s_min > settings.singular_tolerance * s_max;
+    if !regular {
         return Err(UncertaintyError::Singular {
             parameters: null_space_parameters(&v, sigma, settings.singular_tolerance * s_max),
             condition_number,
@@ -332,7 +333,11 @@ fn analyse(
     let cov_s = &v_scaled * v.transpose();
     let s2 = ssr / (n_obs - r - 1) as f64;
     // Physical column norms c_j = ‖h_j‖ |factor_j|.
-    let c: Vec<f64> = norms.iter().zip(factors).map(|(n, f)| n * f.abs()).collect();
+    let c: Vec<f64> = norms
+        .iter()
+        .zip(factors)
+        .map(|(n, f)| n * f.abs())
+        .collect();
     let covariance = DMatrix::from_fn(r, r, |i, j| s2 * cov_s[(i, j)] / (c[i] * c[j]));
     let std_errors: Vec<f64> = (0..r).map(|i| covariance[(i, i)].sqrt()).collect();
     let correlation = DMatrix::from_fn(r, r, |i, j| {
@@ -349,7 +354,13 @@ fn analyse(
     }
     let raw = rc.singular_values();
     let condition_number_raw = (raw.max() / raw.min()).powi(2);
-    let warnings = warnings(&std_errors, &correlation, condition_number, box_widths, settings);
+    let warnings = warnings(
+        &std_errors,
+        &correlation,
+        condition_number,
+        box_widths,
+        settings,
+    );
     Ok(CramerRao {
         n_observations: n_obs,
         n_parameters: r,
@@ -371,7 +382,7 @@ fn null_space_parameters(
     threshold: f64,
 ) -> Vec<usize> {
     let mut parameters: Vec<usize> = (0..sigma.len())
-        .filter(|&k| !(sigma[k] > threshold))
+        .filter(|&k| sigma[k] <= threshold)
         .flat_map(|k| {
             let col = v.column(k);
             (0..col.len()).filter(move |&j| col[j].abs() >= 0.1)
