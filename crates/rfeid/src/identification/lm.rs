@@ -390,6 +390,12 @@ impl LevenbergMarquardt {
             for j in 0..n {
                 step[j] = trial.u[j] - cur.u[j];
             }
+            if step.iter().all(|&v| v == 0.0) {
+                // Every moving variable is on a bound and pushed outwards:
+                // more damping turns the step towards −g, into the box.
+                run.reject();
+                continue;
+            }
             let small_step = step.norm() <= s.step_tolerance * (u_norm + s.step_tolerance);
             // Predicted decrease of the linear model: −2 sᵀg − ‖J s‖².
             let predicted = -(2.0 * step.dot(g) + (&cur.jac * &step).norm_squared());
