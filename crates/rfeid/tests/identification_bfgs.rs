@@ -1,5 +1,6 @@
 //! The BFGS of eq. 20–25 (finite-difference gradients, line search, box) on
 //! test problems with exact answers, with iteration budgets.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 mod common;
 
 use common::{
@@ -199,4 +200,21 @@ fn bfgs_observer_and_limits() {
     assert!(BfgsSettings::default()
         .with_line_search_max_evaluations(1)
         .is_err());
+}
+
+#[test]
+fn bfgs_finds_a_constrained_optimum_on_a_face() {
+    let (problem, exact) = common::correlated_face();
+    for u0 in [[1.0, 1.0], [0.0, 0.0], [0.5, 0.5]] {
+        let result = Bfgs::default().minimize(&problem, &u0).unwrap();
+        report("face", &result);
+        assert!(result.stop_reason.is_converged(), "{}", result.stop_reason);
+        assert_eq!(result.u[0], 1.0);
+        assert!(
+            (result.u[1] - exact[1]).abs() < 1e-6,
+            "{:?} vs {exact:?}",
+            result.u
+        );
+        assert!(result.iterations <= 20);
+    }
 }

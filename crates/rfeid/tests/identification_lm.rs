@@ -1,5 +1,6 @@
 //! Levenberg–Marquardt on test problems with exact answers, with iteration
 //! budgets (a change that doubles the work should fail here).
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 mod common;
 
 use common::{
@@ -196,4 +197,23 @@ fn lm_settings_are_validated() {
         .with_gradient_tolerance(0.0)
         .unwrap_err();
     assert_eq!(e.name, "gradient_tolerance");
+}
+
+#[test]
+fn lm_finds_a_constrained_optimum_on_a_face() {
+    let (problem, exact) = common::correlated_face();
+    for u0 in [[1.0, 1.0], [0.0, 0.0], [0.5, 0.5]] {
+        let result = LevenbergMarquardt::default()
+            .minimize(&problem, &u0)
+            .unwrap();
+        report("face", &result);
+        assert!(result.stop_reason.is_converged(), "{}", result.stop_reason);
+        assert_eq!(result.u[0], 1.0);
+        assert!(
+            (result.u[1] - exact[1]).abs() < 1e-6,
+            "{:?} vs {exact:?}",
+            result.u
+        );
+        assert!(result.iterations <= 10);
+    }
 }

@@ -1,5 +1,6 @@
 //! LP_τ plans (eq. 18–19) against an independently generated table, and
 //! reproducible parallel plan evaluation.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 mod common;
 
 use common::{exp_decay, Diverged, FnProblem};
@@ -182,4 +183,30 @@ fn plan_dimension_must_match_the_problem() {
             problem: 2
         }
     );
+}
+
+#[test]
+fn an_extended_evaluation_equals_a_fresh_one() {
+    let problem = exp_decay_failing();
+    let generator = LpTau::new(2).unwrap();
+    let mut evaluation = evaluate_plan(&problem, &generator.plan(50).unwrap(), None).unwrap();
+    let extension = generator.plan_range(51, 150).unwrap();
+    evaluation
+        .append(evaluate_plan(&problem, &extension, None).unwrap())
+        .unwrap();
+    let fresh = evaluate_plan(&problem, &generator.plan(200).unwrap(), None).unwrap();
+    assert_eq!(evaluation.plan, fresh.plan);
+    assert_eq!(evaluation.outcomes, fresh.outcomes);
+    assert_eq!(evaluation.ranking, fresh.ranking);
+    assert_eq!(evaluation.n_failed, fresh.n_failed);
+    // A plan that does not continue is refused.
+    let gap = evaluate_plan(&problem, &generator.plan_range(300, 5).unwrap(), None).unwrap();
+    assert!(matches!(
+        evaluation.append(gap),
+        Err(PlanError::NotContiguous {
+            first: 300,
+            expected: 201,
+            ..
+        })
+    ));
 }

@@ -1,4 +1,5 @@
 //! Cramér–Rao bounds (eq. 26–29) on linear models with closed-form answers.
+#![allow(clippy::needless_range_loop)] // index loops mirror the formulas
 use nalgebra::{DMatrix, DVector};
 use rfeid::identification::uncertainty::{
     cramer_rao, cramer_rao_normalised, IdentifiabilityWarning, UncertaintyError,

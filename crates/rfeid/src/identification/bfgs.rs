@@ -48,7 +48,7 @@
 //! # Reference
 //!
 //! P. Y. Papalambros, D. J. Wilde, *Principles of optimal design* (the
-//! paper's [7]); J. Nocedal, S. J. Wright, *Numerical optimization*, 2006,
+//! paper's \[7\]); J. Nocedal, S. J. Wright, *Numerical optimization*, 2006,
 //! §6.1.
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -322,7 +322,8 @@ impl Bfgs {
             let step = loop {
                 let p = direction(&b, &pg, &u, &active);
                 let slope: f64 = g.iter().zip(&p).map(|(a, b)| a * b).sum();
-                if !(slope < 0.0) && !fresh {
+                let descent = slope < 0.0;
+                if !descent && !fresh {
                     b.fill_with_identity();
                     fresh = true;
                     continue;
@@ -402,6 +403,12 @@ impl Bfgs {
                 step_size: alpha,
             });
             observer(iterations, cost);
+            tracing::debug!(
+                iteration = iterations,
+                cost,
+                step_size = alpha,
+                "BFGS iteration"
+            );
             if gradient_ok {
                 let new_active = active_set(&u, &g);
                 if new_active != active {
@@ -422,6 +429,7 @@ impl Bfgs {
                 break StopReason::ConvergedCost;
             }
         };
+        tracing::debug!(%stop_reason, iterations, cost, "BFGS stopped");
         let projected_gradient = gradient_ok.then(|| projected(&g, &active_set(&u, &g)));
         Ok(BfgsResult {
             u,
@@ -475,7 +483,8 @@ impl Bfgs {
         };
         let (dx, dv) = (mask(ds), mask(dv));
         let sy = dx.dot(&dv);
-        if !(sy > 1e-10 * dx.norm() * dv.norm()) {
+        let curvature = sy > 1e-10 * dx.norm() * dv.norm();
+        if !curvature {
             return false;
         }
         if fresh && self.settings.scale_initial_inverse_hessian {

@@ -148,15 +148,14 @@ impl<P: LeastSquares> LineSearch<'_, P> {
         };
         // 3. Refine in (lo, mid, hi).
         while self.evaluations < limits.max_evaluations {
+            let golden = if hi.a - mid.a > mid.a - lo.a {
+                mid.a + GOLDEN * (hi.a - mid.a)
+            } else {
+                mid.a - GOLDEN * (mid.a - lo.a)
+            };
             let v = vertex(lo, mid, hi)
                 .filter(|&v| v > lo.a && v < hi.a)
-                .unwrap_or_else(|| {
-                    if hi.a - mid.a > mid.a - lo.a {
-                        mid.a + GOLDEN * (hi.a - mid.a)
-                    } else {
-                        mid.a - GOLDEN * (mid.a - lo.a)
-                    }
-                });
+                .unwrap_or(golden);
             if (v - mid.a).abs() <= limits.tolerance * mid.a {
                 break;
             }

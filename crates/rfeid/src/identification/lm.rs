@@ -311,6 +311,13 @@ impl LevenbergMarquardt {
                 problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run,
             );
             observer(iterations, cur.cost);
+            tracing::debug!(
+                iteration = iterations,
+                cost = cur.cost,
+                damping = run.lambda,
+                free = free.len(),
+                "Levenberg–Marquardt iteration"
+            );
             match inner {
                 Inner::Accepted(pending) => {
                     history.push(LmIterate {
@@ -326,6 +333,7 @@ impl LevenbergMarquardt {
                 Inner::Stop(reason) => break reason,
             }
         };
+        tracing::debug!(%stop_reason, iterations, cost = cur.cost, "Levenberg–Marquardt stopped");
         Ok(LmResult {
             u: cur.u,
             cost: cur.cost,
@@ -381,6 +389,12 @@ impl LevenbergMarquardt {
             }
             for j in 0..n {
                 step[j] = trial.u[j] - cur.u[j];
+            }
+            if step.iter().all(|&v| v == 0.0) {
+                // Every moving variable is on a bound and pushed outwards:
+                // more damping turns the step towards −g, into the box.
+                run.reject();
+                continue;
             }
             let small_step = step.norm() <= s.step_tolerance * (u_norm + s.step_tolerance);
             // Predicted decrease of the linear model: −2 sᵀg − ‖J s‖².

@@ -60,6 +60,17 @@ pub enum PlanError {
         /// Number of requested points.
         count: usize,
     },
+    /// An appended plan does not continue this one (other dimension, or its
+    /// first Sobol index is not the next one).
+    #[error("the appended plan (dimension {dims}, first index {first}) does not continue this one (next index {expected})")]
+    NotContiguous {
+        /// Dimension of the appended plan.
+        dims: usize,
+        /// First Sobol index of the appended plan.
+        first: u64,
+        /// The Sobol index that would continue this plan.
+        expected: u64,
+    },
     /// The plan's dimension differs from the problem's number of parameters.
     #[error("the plan has {plan} dimensions, the problem has {problem} parameters")]
     DimensionMismatch {
@@ -202,6 +213,26 @@ impl Plan {
     /// The points in order.
     pub fn iter(&self) -> std::slice::ChunksExact<'_, f64> {
         self.coords.chunks_exact(self.dims)
+    }
+
+    /// The Sobol index that would follow this plan's last point.
+    pub fn next_index(&self) -> u64 {
+        self.first_index + self.len() as u64
+    }
+
+    /// Appends `other`, which must continue this plan (same dimension, first
+    /// index [`Plan::next_index`]): extending N_p without recomputing the
+    /// first points (paper §3).
+    pub fn append(&mut self, other: &Plan) -> Result<(), PlanError> {
+        if other.dims != self.dims || other.first_index != self.next_index() {
+            return Err(PlanError::NotContiguous {
+                dims: other.dims,
+                first: other.first_index,
+                expected: self.next_index(),
+            });
+        }
+        self.coords.extend_from_slice(&other.coords);
+        Ok(())
     }
 }
 

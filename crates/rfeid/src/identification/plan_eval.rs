@@ -47,6 +47,17 @@ impl<E> PlanEvaluation<E> {
     pub fn all_failed(&self) -> bool {
         self.n_failed == self.outcomes.len()
     }
+
+    /// Appends the evaluation of a plan extension (see
+    /// [`crate::identification::plan::LpTau::plan_range`]), re-ranking all
+    /// points: the first N_p points are not evaluated again (paper §3).
+    pub fn append(&mut self, other: PlanEvaluation<E>) -> Result<(), PlanError> {
+        self.plan.append(&other.plan)?;
+        self.outcomes.extend(other.outcomes);
+        self.n_failed += other.n_failed;
+        self.ranking = rank(&self.outcomes);
+        Ok(())
+    }
 }
 
 /// Evaluates J (eq. 16) at every point of `plan`, in parallel on the current

@@ -318,7 +318,8 @@ fn analyse(
     let v = svd.v_t.as_ref().expect("V was requested").transpose();
     let (s_max, s_min) = (sigma[0], sigma[r - 1]);
     let condition_number = (s_max / s_min).powi(2);
-    if !(s_min > settings.singular_tolerance * s_max) {
+    let regular = s_min > settings.singular_tolerance * s_max;
+    if !regular {
         return Err(UncertaintyError::Singular {
             parameters: null_space_parameters(&v, sigma, settings.singular_tolerance * s_max),
             condition_number,
@@ -381,7 +382,7 @@ fn null_space_parameters(
     threshold: f64,
 ) -> Vec<usize> {
     let mut parameters: Vec<usize> = (0..sigma.len())
-        .filter(|&k| !(sigma[k] > threshold))
+        .filter(|&k| sigma[k] <= threshold)
         .flat_map(|k| {
             let col = v.column(k);
             (0..col.len()).filter(move |&j| col[j].abs() >= 0.1)

@@ -140,3 +140,20 @@ pub fn linear(a: Vec<f64>, b: Vec<f64>, n: usize) -> FnProblem {
         }),
     }
 }
+
+/// Correlated linear residuals with the unconstrained optimum (1.3, 0.2)
+/// outside the box; returns the problem and the constrained optimum
+/// (1, u2*) on the face u1 = 1, u2* = a2ᵀ(b − a1)/‖a2‖².
+pub fn correlated_face() -> (FnProblem, [f64; 2]) {
+    let a = [1.0, 0.95, 0.95, 1.0, 0.3, -0.2];
+    let u_unc = [1.3, 0.2];
+    let b: Vec<f64> = (0..3)
+        .map(|i| a[2 * i] * u_unc[0] + a[2 * i + 1] * u_unc[1])
+        .collect();
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..3 {
+        num += a[2 * i + 1] * (b[i] - a[2 * i]);
+        den += a[2 * i + 1] * a[2 * i + 1];
+    }
+    (linear(a.to_vec(), b, 2), [1.0, num / den])
+}
