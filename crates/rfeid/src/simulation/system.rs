@@ -276,16 +276,14 @@ impl<'a> System<'a> {
             let out = &mut dacc[i * r..(i + 1) * r];
             let arow = &self.a_lin[i * 2 * n..(i + 1) * 2 * n];
             let mut c0 = 0;
-            // Eight parameters at a time, accumulators in registers.
+            // Sixteen (then eight) parameters at a time, in two interleaved
+            // accumulator chains, so that the loop is not latency-bound.
+            while c0 + 16 <= r {
+                row_times::<16>(arow, sy, r, c0, out);
+                c0 += 16;
+            }
             while c0 + 8 <= r {
-                let mut s = [0.0; 8];
-                for (j, &aij) in arow.iter().enumerate() {
-                    let src = &sy[j * r + c0..j * r + c0 + 8];
-                    for k in 0..8 {
-                        s[k] += aij * src[k];
-                    }
-                }
-                out[c0..c0 + 8].copy_from_slice(&s);
+                row_times::<8>(arow, sy, r, c0, out);
                 c0 += 8;
             }
             for c in c0..r {
@@ -435,6 +433,32 @@ impl<'a> System<'a> {
             }
         }
         c
+    }
+}
+
+/// `out[c0..c0+W] = Σ_j arow[j] · sy[j, c0..c0+W]` for row-major `sy` with r columns.
+#[inline(always)]
+fn row_times<const W: usize>(arow: &[f64], sy: &[f64], r: usize, c0: usize, out: &mut [f64]) {
+    let (mut s, mut t) = ([0.0; W], [0.0; W]);
+    let mut pairs = arow.chunks_exact(2);
+    let mut j = 0;
+    for a in &mut pairs {
+        let x0 = &sy[j * r + c0..j * r + c0 + W];
+        let x1 = &sy[(j + 1) * r + c0..(j + 1) * r + c0 + W];
+        for k in 0..W {
+            s[k] += a[0] * x0[k];
+            t[k] += a[1] * x1[k];
+        }
+        j += 2;
+    }
+    if let [a] = pairs.remainder() {
+        let x0 = &sy[j * r + c0..j * r + c0 + W];
+        for k in 0..W {
+            s[k] += a * x0[k];
+        }
+    }
+    for k in 0..W {
+        out[c0 + k] = s[k] + t[k];
     }
 }
 
