@@ -5,6 +5,9 @@
 //! response is a smooth function of the parameters, and its derivative is
 //! what the sensitivities return (see [`super::run`]).
 
+// Coefficients are quoted with the digits they were published with.
+#![allow(clippy::excessive_precision)]
+
 /// An explicit Runge–Kutta method.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tableau {

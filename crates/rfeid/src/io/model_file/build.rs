@@ -12,7 +12,11 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use toml::Spanned;
 
-type Result<T> = std::result::Result<T, ModelFileError>;
+/// Errors are boxed inside the builder, where they pass through many frames.
+type Result<T> = std::result::Result<T, Box<ModelFileError>>;
+
+/// A parameter's value or bound with the dimension of its unit, if it had one.
+type Reading = (f64, Option<Dimension>);
 
 /// Tolerance on `RᵀR − I` for axes.
 const AXES_TOL: f64 = 1e-6;
@@ -22,7 +26,7 @@ struct ParamDraft {
     name: String,
     span: Range<usize>,
     value: (f64, Option<Dimension>),
-    bounds: Option<((f64, Option<Dimension>), (f64, Option<Dimension>))>,
+    bounds: Option<(Reading, Reading)>,
     unit: DisplayUnit,
     uses: Vec<(Dimension, Range<usize>, String, String)>,
 }
@@ -42,15 +46,15 @@ impl Ctx {
         entry: &str,
         field: &str,
         message: impl Into<String>,
-    ) -> ModelFileError {
-        ModelFileError {
+    ) -> Box<ModelFileError> {
+        Box::new(ModelFileError {
             path: self.path.clone(),
             source_text: Some(self.text.clone()),
             span,
             entry: entry.into(),
             field: field.into(),
             message: message.into(),
-        }
+        })
     }
 
     /// A number with a unit of dimension `dim`; no parameter allowed.

@@ -15,6 +15,7 @@ use std::path::Path;
 
 /// Reads and validates a model file. Relative paths inside it (signal
 /// tables) are taken relative to the file's directory.
+#[allow(clippy::result_large_err)] // a cold path; the error carries the file's text for a snippet
 pub fn load_model(path: &Path) -> Result<Model, ModelFileError> {
     let text = std::fs::read_to_string(path).map_err(|e| ModelFileError {
         path: path.into(),
@@ -29,6 +30,7 @@ pub fn load_model(path: &Path) -> Result<Model, ModelFileError> {
 
 /// Parses and validates model text; `path` names it in errors and anchors
 /// relative paths.
+#[allow(clippy::result_large_err)] // as above
 pub fn parse_model(text: &str, path: &Path) -> Result<Model, ModelFileError> {
-    build::build(text, path)
+    build::build(text, path).map_err(|e| *e)
 }
