@@ -1,0 +1,102 @@
+//! Shared helpers for the integration tests: building models from TOML text,
+//! running them, closed-form reference solutions and error measures.
+#![allow(dead_code)]
+
+use rfeid::io::model_file::parse_model;
+use rfeid::model::Model;
+use rfeid::simulation::{Integrator, Response, Simulator, Workspace};
+use std::path::Path;
+
+/// Parses model text, panicking with the error's message on failure.
+pub fn model(text: &str) -> Model {
+    parse_model(text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Simulates `model` at `params` with the integrator `integrator` (or the
+/// model's own settings).
+pub fn simulate(model: &Model, params: &[f64], integrator: Option<Integrator>) -> Response {
+    let sim = match integrator {
+        Some(i) => Simulator::with_integrator(model, i),
+        None => Simulator::new(model),
+    };
+    let mut ws = Workspace::default();
+    let mut out = sim.response_buffer();
+    sim.run(params, &mut ws, &mut out)
+        .unwrap_or_else(|e| panic!("simulation failed: {e}"));
+    out
+}
+
+/// Simulates at the nominal parameter values.
+pub fn simulate_nominal(model: &Model, integrator: Option<Integrator>) -> Response {
+    simulate(model, &model.nominal(), integrator)
+}
+
+/// Sample times t_k = k / rate.
+pub fn times(model: &Model) -> Vec<f64> {
+    (0..model.sampling.n_samples())
+        .map(|k| model.sampling.time(k))
+        .collect()
+}
+
+/// Largest absolute value.
+pub fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// Root mean square.
+pub fn rms(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Largest |a − b| divided by the largest |b|: the error relative to the
+/// signal's scale.
+pub fn rel_max_err(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let d = a
+        .iter()
+        .zip(b)
+        .fold(0.0, |m, (x, y)| f64::max(m, (x - y).abs()));
+    d / max_abs(b)
+}
+
+/// Asserts that `err` is within `tol` and prints it in units of the
+/// tolerance (scipy's style), so that a test's margin is visible in its output.
+pub fn assert_within(what: &str, err: f64, tol: f64) {
+    println!(
+        "{what}: error {err:.3e} = {:.3} tol (tol {tol:.1e})",
+        err / tol
+    );
+    assert!(
+        err <= tol,
+        "{what}: error {err:.3e} exceeds the tolerance {tol:.1e} ({:.1} tol)",
+        err / tol
+    );
+}
+
+/// The exact response of `m x'' + c x' + k x = F0 sin(ω t)` from rest
+/// (`x(0) = x'(0) = 0`), underdamped (ζ < 1): `(x, x', x'')` at t.
+///
+/// Steady state `A sin ωt + B cos ωt` with `A = F0 (k − mω²)/D`,
+/// `B = −F0 c ω / D`, `D = (k − mω²)² + (cω)²`; transient
+/// `e^{−ζω_n t}(C1 cos ω_d t + C2 sin ω_d t)` with C1, C2 from the initial
+/// conditions; the acceleration from the equation itself.
+pub fn sdof_forced(m: f64, c: f64, k: f64, f0: f64, omega: f64, t: f64) -> (f64, f64, f64) {
+    let wn = (k / m).sqrt();
+    let zeta = c / (2.0 * m * wn);
+    assert!(zeta < 1.0, "sdof_forced is for underdamped oscillators");
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let d = (k - m * omega * omega).powi(2) + (c * omega).powi(2);
+    let a = f0 * (k - m * omega * omega) / d;
+    let b = -f0 * c * omega / d;
+    let sigma = zeta * wn;
+    let c1 = -b;
+    let c2 = (sigma * c1 - a * omega) / wd;
+    let (s, co) = (omega * t).sin_cos();
+    let (sd, cd) = (wd * t).sin_cos();
+    let e = (-sigma * t).exp();
+    let x = a * s + b * co + e * (c1 * cd + c2 * sd);
+    let v = a * omega * co - b * omega * s
+        + e * (-sigma * (c1 * cd + c2 * sd) + wd * (-c1 * sd + c2 * cd));
+    let acc = (f0 * s - c * v - k * x) / m;
+    (x, v, acc)
+}
