@@ -281,6 +281,56 @@ fn unit_symbol(t: &str) -> &str {
     t[end..].trim()
 }
 
+/// A TOML syntax or schema error. An unknown key (a typo) is named as the
+/// field, in the entry that holds it.
+fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> ModelFileError {
+    let message = e.message().to_string();
+    let field = message
+        .strip_prefix("unknown field `")
+        .and_then(|m| m.split('`').next())
+        .unwrap_or("")
+        .to_string();
+    let entry = e
+        .span()
+        .and_then(|span| entry_at(text, span.start))
+        .unwrap_or_default();
+    ctx.err(e.span(), &entry, &field, message)
+}
+
+/// The entry (`body "knee"`, `element #2`, `[simulation]` …) whose table
+/// holds byte `pos`, named as the errors of [`build`] name it. A table's
+/// span is its header, so the entry is the last header before `pos`.
+fn entry_at(text: &str, pos: usize) -> Option<String> {
+    let loose: LooseFile = toml::from_str(text).ok()?;
+    let mut headers: Vec<(usize, String)> = Vec::new();
+    if let Some(sim) = &loose.simulation {
+        headers.push((sim.span().start, "[simulation]".into()));
+    }
+    let kinds = [
+        ("body", &loose.body),
+        ("element", &loose.element),
+        ("parameter", &loose.parameter),
+        ("excitation", &loose.excitation),
+        ("sensor", &loose.sensor),
+    ];
+    for (kind, entries) in kinds {
+        for (i, e) in entries.iter().enumerate() {
+            let name = e.get_ref().get("name").and_then(|n| n.as_str());
+            let entry = match (name, kind) {
+                (Some(n), _) => format!("{kind} \"{}\"", n.trim()),
+                (None, "excitation") => format!("excitation \"excitation {}\"", i + 1),
+                (None, _) => format!("{kind} #{}", i + 1),
+            };
+            headers.push((e.span().start, entry));
+        }
+    }
+    headers
+        .into_iter()
+        .filter(|(start, _)| *start <= pos)
+        .max_by_key(|(start, _)| *start)
+        .map(|(_, entry)| entry)
+}
+
 pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let mut ctx = Ctx {
         path: path.into(),
@@ -289,8 +339,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         params: Vec::new(),
         param_index: HashMap::new(),
     };
-    let raw: RawFile =
-        toml::from_str(text).map_err(|e| ctx.err(e.span(), "", "", e.message().to_string()))?;
+    let raw: RawFile = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
 
     // Parameters first, so that fields can name them.
     for (i, p) in raw.parameter.iter().enumerate() {
