@@ -23,6 +23,8 @@ struct ParamDraft {
     span: Range<usize>,
     value: (f64, Option<Dimension>),
     bounds: Option<((f64, Option<Dimension>), (f64, Option<Dimension>))>,
+    /// Spans of the value, min and max texts (min and max: the value's when absent).
+    value_spans: [Range<usize>; 3],
     unit: DisplayUnit,
     uses: Vec<(Dimension, Range<usize>, String, String)>,
 }
@@ -414,6 +416,11 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
                 Some(((l, ld), (h, hd)))
             }
         };
+        let value_spans = [
+            value_raw.span(),
+            rp.min.as_ref().map_or(value_raw.span(), |v| v.span()),
+            rp.max.as_ref().map_or(value_raw.span(), |v| v.span()),
+        ];
         let unit = match (&sym, value_raw.get_ref()) {
             (s, RawNum::Text(t)) if !s.is_empty() => {
                 let one = parse_quantity(&format!("1 {s}"))
@@ -433,6 +440,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             span,
             value: (value, vdim),
             bounds,
+            value_spans,
             unit,
             uses: Vec::new(),
         });
@@ -477,7 +485,8 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             .chain(
                 inertia
                     .iter()
-                    .map(|v| (*v, "inertia", Some(inertia_raw.span()))),
+                    .zip(inertia_raw.get_ref())
+                    .map(|(v, raw)| (*v, "inertia", Some(raw.span()))),
             )
         {
             if let Value::Fixed(x) = v {
@@ -1139,10 +1148,13 @@ fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
                 ));
             }
         }
-        let check = |(v, vd): (f64, Option<Dimension>), field: &str| -> Result<f64> {
+        let check = |(v, vd): (f64, Option<Dimension>),
+                     field: &str,
+                     span: &Range<usize>|
+         -> Result<f64> {
             match vd {
                 Some(vd) if vd != *dim => Err(ctx.err(
-                    Some(p.span.clone()),
+                    Some(span.clone()),
                     &entry,
                     field,
                     format!("the unit has the dimension {vd}, but the parameter is used as {dim} ({}, {})", p.uses[0].2, p.uses[0].3),
@@ -1150,10 +1162,13 @@ fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
                 _ => Ok(v),
             }
         };
-        let value = check(p.value, "value")?;
+        let value = check(p.value, "value", &p.value_spans[0])?;
         let bounds = match p.bounds {
             None => None,
-            Some((lo, hi)) => Some((check(lo, "min")?, check(hi, "max")?)),
+            Some((lo, hi)) => Some((
+                check(lo, "min", &p.value_spans[1])?,
+                check(hi, "max", &p.value_spans[2])?,
+            )),
         };
         let lowest = bounds.map(|b| b.0).unwrap_or(value);
         for (_, span, e, f) in &p.uses {
