@@ -1,12 +1,12 @@
 //! The BFGS of eq. 20–25 (finite-difference gradients, line search, box) on
 //! test problems with exact answers, with iteration budgets.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod common;
+mod problems;
 
-use common::{
+use nalgebra::{DMatrix, DVector};
+use problems::{
     exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE,
 };
-use nalgebra::{DMatrix, DVector};
 use rfeid::identification::bfgs::{Bfgs, BfgsResult, BfgsSettings};
 use rfeid::identification::problem::EvalError;
 use rfeid::identification::termination::{SolveError, StopReason};
@@ -204,7 +204,7 @@ fn bfgs_observer_and_limits() {
 
 #[test]
 fn bfgs_finds_a_constrained_optimum_on_a_face() {
-    let (problem, exact) = common::correlated_face();
+    let (problem, exact) = problems::correlated_face();
     for u0 in [[1.0, 1.0], [0.0, 0.0], [0.5, 0.5]] {
         let result = Bfgs::default().minimize(&problem, &u0).unwrap();
         report("face", &result);

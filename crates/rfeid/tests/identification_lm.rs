@@ -1,9 +1,9 @@
 //! Levenberg–Marquardt on test problems with exact answers, with iteration
 //! budgets (a change that doubles the work should fail here).
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod common;
+mod problems;
 
-use common::{
+use problems::{
     exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE,
 };
 use rfeid::identification::lm::{LevenbergMarquardt, LmSettings};
@@ -201,7 +201,7 @@ fn lm_settings_are_validated() {
 
 #[test]
 fn lm_finds_a_constrained_optimum_on_a_face() {
-    let (problem, exact) = common::correlated_face();
+    let (problem, exact) = problems::correlated_face();
     for u0 in [[1.0, 1.0], [0.0, 0.0], [0.5, 0.5]] {
         let result = LevenbergMarquardt::default()
             .minimize(&problem, &u0)

@@ -1,9 +1,9 @@
 //! LP_τ plans (eq. 18–19) against an independently generated table, and
 //! reproducible parallel plan evaluation.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod common;
+mod problems;
 
-use common::{exp_decay, Diverged, FnProblem};
+use problems::{exp_decay, Diverged, FnProblem};
 use rfeid::identification::plan::{lp_tau_plan, LpTau, PlanError, MAX_DIMENSIONS};
 use rfeid::identification::plan_eval::evaluate_plan;
 use rfeid::identification::problem::EvalError;

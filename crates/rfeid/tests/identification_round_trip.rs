@@ -2,10 +2,10 @@
 //! from y = A exp(−k t), an LP_τ plan, Levenberg–Marquardt (and BFGS) from
 //! the best plan point, then Cramér–Rao bounds: the estimates must land
 //! within 3 standard errors of the truth.
-mod common;
+mod problems;
 
-use common::{to_physical, EXP_BOX, EXP_TRUE};
 use nalgebra::DMatrix;
+use problems::{to_physical, EXP_BOX, EXP_TRUE};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};

@@ -27,6 +27,8 @@ struct ParamDraft {
     span: Range<usize>,
     value: (f64, Option<Dimension>),
     bounds: Option<(Reading, Reading)>,
+    /// Spans of the value, min and max texts (min and max: the value's when absent).
+    value_spans: [Range<usize>; 3],
     unit: DisplayUnit,
     uses: Vec<(Dimension, Range<usize>, String, String)>,
 }
@@ -285,6 +287,56 @@ fn unit_symbol(t: &str) -> &str {
     t[end..].trim()
 }
 
+/// A TOML syntax or schema error. An unknown key (a typo) is named as the
+/// field, in the entry that holds it.
+fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<ModelFileError> {
+    let message = e.message().to_string();
+    let field = message
+        .strip_prefix("unknown field `")
+        .and_then(|m| m.split('`').next())
+        .unwrap_or("")
+        .to_string();
+    let entry = e
+        .span()
+        .and_then(|span| entry_at(text, span.start))
+        .unwrap_or_default();
+    ctx.err(e.span(), &entry, &field, message)
+}
+
+/// The entry (`body "knee"`, `element #2`, `[simulation]` …) whose table
+/// holds byte `pos`, named as the errors of [`build`] name it. A table's
+/// span is its header, so the entry is the last header before `pos`.
+fn entry_at(text: &str, pos: usize) -> Option<String> {
+    let loose: LooseFile = toml::from_str(text).ok()?;
+    let mut headers: Vec<(usize, String)> = Vec::new();
+    if let Some(sim) = &loose.simulation {
+        headers.push((sim.span().start, "[simulation]".into()));
+    }
+    let kinds = [
+        ("body", &loose.body),
+        ("element", &loose.element),
+        ("parameter", &loose.parameter),
+        ("excitation", &loose.excitation),
+        ("sensor", &loose.sensor),
+    ];
+    for (kind, entries) in kinds {
+        for (i, e) in entries.iter().enumerate() {
+            let name = e.get_ref().get("name").and_then(|n| n.as_str());
+            let entry = match (name, kind) {
+                (Some(n), _) => format!("{kind} \"{}\"", n.trim()),
+                (None, "excitation") => format!("excitation \"excitation {}\"", i + 1),
+                (None, _) => format!("{kind} #{}", i + 1),
+            };
+            headers.push((e.span().start, entry));
+        }
+    }
+    headers
+        .into_iter()
+        .filter(|(start, _)| *start <= pos)
+        .max_by_key(|(start, _)| *start)
+        .map(|(_, entry)| entry)
+}
+
 pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let mut ctx = Ctx {
         path: path.into(),
@@ -293,8 +345,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         params: Vec::new(),
         param_index: HashMap::new(),
     };
-    let raw: RawFile =
-        toml::from_str(text).map_err(|e| ctx.err(e.span(), "", "", e.message().to_string()))?;
+    let raw: RawFile = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
 
     // Parameters first, so that fields can name them.
     for (i, p) in raw.parameter.iter().enumerate() {
@@ -369,6 +420,11 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
                 Some(((l, ld), (h, hd)))
             }
         };
+        let value_spans = [
+            value_raw.span(),
+            rp.min.as_ref().map_or(value_raw.span(), |v| v.span()),
+            rp.max.as_ref().map_or(value_raw.span(), |v| v.span()),
+        ];
         let unit = match (&sym, value_raw.get_ref()) {
             (s, RawNum::Text(t)) if !s.is_empty() => {
                 let one = parse_quantity(&format!("1 {s}"))
@@ -388,6 +444,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             span,
             value: (value, vdim),
             bounds,
+            value_spans,
             unit,
             uses: Vec::new(),
         });
@@ -432,7 +489,8 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             .chain(
                 inertia
                     .iter()
-                    .map(|v| (*v, "inertia", Some(inertia_raw.span()))),
+                    .zip(inertia_raw.get_ref())
+                    .map(|(v, raw)| (*v, "inertia", Some(raw.span()))),
             )
         {
             if let Value::Fixed(x) = v {
@@ -1094,10 +1152,13 @@ fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
                 ));
             }
         }
-        let check = |(v, vd): (f64, Option<Dimension>), field: &str| -> Result<f64> {
+        let check = |(v, vd): (f64, Option<Dimension>),
+                     field: &str,
+                     span: &Range<usize>|
+         -> Result<f64> {
             match vd {
                 Some(vd) if vd != *dim => Err(ctx.err(
-                    Some(p.span.clone()),
+                    Some(span.clone()),
                     &entry,
                     field,
                     format!("the unit has the dimension {vd}, but the parameter is used as {dim} ({}, {})", p.uses[0].2, p.uses[0].3),
@@ -1105,10 +1166,13 @@ fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
                 _ => Ok(v),
             }
         };
-        let value = check(p.value, "value")?;
+        let value = check(p.value, "value", &p.value_spans[0])?;
         let bounds = match p.bounds {
             None => None,
-            Some((lo, hi)) => Some((check(lo, "min")?, check(hi, "max")?)),
+            Some((lo, hi)) => Some((
+                check(lo, "min", &p.value_spans[1])?,
+                check(hi, "max", &p.value_spans[2])?,
+            )),
         };
         let lowest = bounds.map(|b| b.0).unwrap_or(value);
         for (_, span, e, f) in &p.uses {

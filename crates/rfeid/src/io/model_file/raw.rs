@@ -140,3 +140,20 @@ pub struct RawSensor {
     pub direction: Option<SVec>,
     pub quantity: Option<Spanned<String>>,
 }
+
+/// The file read loosely, every entry a plain table with its span: used only
+/// to say which entry holds a key the strict structures above reject.
+#[derive(Debug, Deserialize)]
+pub struct LooseFile {
+    pub simulation: Option<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub body: Vec<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub element: Vec<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub parameter: Vec<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub excitation: Vec<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub sensor: Vec<Spanned<toml::Table>>,
+}
