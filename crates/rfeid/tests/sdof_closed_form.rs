@@ -5,7 +5,9 @@
 //! `F0 sin(ωt)` along X. The body has six DOF, but nothing loads the other
 //! five (the element and the force act at the centre of mass along X), so
 //! they stay exactly zero and `m x'' + c x' + k x = F0 sin ωt` from rest is
-//! the whole answer (see `common::sdof_forced`).
+//! the whole answer (see `common::sdof_forced`). The same oscillator then
+//! checks the `multisine` (superposed tones with phases) and `impulse`
+//! (forced, then free) signals.
 //!
 //! Accuracy of the fixed-step methods: RK4's global error on an oscillator
 //! grows like `ω t (ω h)⁴ / 120` relative to the amplitude (its phase error
