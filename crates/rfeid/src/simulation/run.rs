@@ -174,13 +174,10 @@ impl<'m> Simulator<'m> {
         sens.wrt.clear();
         sens.wrt.extend_from_slice(wrt);
         sens.values.clear();
-        sens.values.resize(
-            out.values
-                .len()
-                .max(self.model.sensors.len() * self.model.sampling.n_samples())
-                * wrt.len(),
-            0.0,
-        );
+        // Sized from the model, not from `out`, which may be a reused buffer
+        // of another shape (`integrate` resizes it).
+        let rows = self.model.sensors.len() * self.model.sampling.n_samples();
+        sens.values.resize(rows * wrt.len(), 0.0);
         self.integrate(params, wrt, ws, out, Some(&mut sens.values))
     }
 

@@ -73,30 +73,55 @@ pub fn assert_within(what: &str, err: f64, tol: f64) {
     );
 }
 
-/// The exact response of `m x'' + c x' + k x = F0 sin(ω t)` from rest
+/// The exact response of `m x'' + c x' + k x = F0 sin(ω t + φ)` from rest
 /// (`x(0) = x'(0) = 0`), underdamped (ζ < 1): `(x, x', x'')` at t.
 ///
-/// Steady state `A sin ωt + B cos ωt` with `A = F0 (k − mω²)/D`,
-/// `B = −F0 c ω / D`, `D = (k − mω²)² + (cω)²`; transient
-/// `e^{−ζω_n t}(C1 cos ω_d t + C2 sin ω_d t)` with C1, C2 from the initial
-/// conditions; the acceleration from the equation itself.
-pub fn sdof_forced(m: f64, c: f64, k: f64, f0: f64, omega: f64, t: f64) -> (f64, f64, f64) {
-    let wn = (k / m).sqrt();
-    let zeta = c / (2.0 * m * wn);
-    assert!(zeta < 1.0, "sdof_forced is for underdamped oscillators");
-    let wd = wn * (1.0 - zeta * zeta).sqrt();
+/// Steady state `A sin(ωt + φ) + B cos(ωt + φ)` with `A = F0 (k − mω²)/D`,
+/// `B = −F0 c ω / D`, `D = (k − mω²)² + (cω)²`; the transient is the free
+/// response that cancels its initial displacement and velocity
+/// ([`sdof_free`]); the acceleration comes from the equation itself.
+pub fn sdof_forced_phase(
+    m: f64,
+    c: f64,
+    k: f64,
+    f0: f64,
+    omega: f64,
+    phase: f64,
+    t: f64,
+) -> (f64, f64, f64) {
     let d = (k - m * omega * omega).powi(2) + (c * omega).powi(2);
     let a = f0 * (k - m * omega * omega) / d;
     let b = -f0 * c * omega / d;
+    let steady = |t: f64| {
+        let (s, co) = (omega * t + phase).sin_cos();
+        (a * s + b * co, omega * (a * co - b * s))
+    };
+    let (x0, v0) = steady(0.0);
+    let (xs, vs) = steady(t);
+    let (xh, vh, _) = sdof_free(m, c, k, -x0, -v0, t);
+    let (x, v) = (xs + xh, vs + vh);
+    let acc = (f0 * (omega * t + phase).sin() - c * v - k * x) / m;
+    (x, v, acc)
+}
+
+/// [`sdof_forced_phase`] with zero phase.
+pub fn sdof_forced(m: f64, c: f64, k: f64, f0: f64, omega: f64, t: f64) -> (f64, f64, f64) {
+    sdof_forced_phase(m, c, k, f0, omega, 0.0, t)
+}
+
+/// The free response of `m x'' + c x' + k x = 0` (ζ < 1) from `x(0) = x0`,
+/// `x'(0) = v0`: `e^{−σt}(C1 cos ω_d t + C2 sin ω_d t)` with `σ = ζ ω_n`,
+/// `C1 = x0`, `C2 = (v0 + σ x0) / ω_d`. Returns `(x, x', x'')`.
+pub fn sdof_free(m: f64, c: f64, k: f64, x0: f64, v0: f64, t: f64) -> (f64, f64, f64) {
+    let wn = (k / m).sqrt();
+    let zeta = c / (2.0 * m * wn);
+    assert!(zeta < 1.0, "sdof_free is for underdamped oscillators");
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
     let sigma = zeta * wn;
-    let c1 = -b;
-    let c2 = (sigma * c1 - a * omega) / wd;
-    let (s, co) = (omega * t).sin_cos();
+    let (c1, c2) = (x0, (v0 + sigma * x0) / wd);
     let (sd, cd) = (wd * t).sin_cos();
     let e = (-sigma * t).exp();
-    let x = a * s + b * co + e * (c1 * cd + c2 * sd);
-    let v = a * omega * co - b * omega * s
-        + e * (-sigma * (c1 * cd + c2 * sd) + wd * (-c1 * sd + c2 * cd));
-    let acc = (f0 * s - c * v - k * x) / m;
-    (x, v, acc)
+    let x = e * (c1 * cd + c2 * sd);
+    let v = e * (-sigma * (c1 * cd + c2 * sd) + wd * (-c1 * sd + c2 * cd));
+    (x, v, -(c * v + k * x) / m)
 }
