@@ -132,7 +132,14 @@ struct States {
 
 fn states() -> (States, f64) {
     let model = model(&model_text());
-    let out = simulate_nominal(&model, None);
+    // The check is about RK4's known energy behaviour, so use RK4 explicitly
+    // (the default method is DOP853). The model is linear: no crossings.
+    let rk4 = rfeid::simulation::Integrator {
+        tableau: rfeid::simulation::tableau::RK4,
+        substeps: model.sampling.substeps,
+        locate_crossings: true,
+    };
+    let out = simulate_nominal(&model, Some(rk4));
     let n = model.sampling.n_samples();
     let read =
         |base: usize, k: usize| coordinates(std::array::from_fn(|c| out.sensor(base + c)[k]));

@@ -37,6 +37,7 @@ fn errors(substeps: Option<usize>) -> Vec<f64> {
         Some(substeps) => Integrator {
             tableau: RK4,
             substeps,
+            locate_crossings: true,
         },
         None => Simulator::new(&model).integrator(),
     };

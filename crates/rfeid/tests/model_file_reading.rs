@@ -215,7 +215,7 @@ quantity = "velocity"
     assert_eq!(m.elements[0].components[1].law, Law::None);
     assert_eq!(m.elements[0].components[1].dof, 5);
     assert_eq!(m.elements[0].components[1].damping, Value::Fixed(3.0));
-    assert_eq!(m.sampling.substeps, 10);
+    assert_eq!(m.sampling.substeps, rfeid::simulation::DEFAULT_SUBSTEPS);
     assert_eq!(m.sampling.n_samples(), 500);
     assert_eq!(m.excitations[0].name, "excitation 1");
     assert_eq!(m.excitations[0].direction, Vector3::z());

@@ -146,6 +146,7 @@ fn rk4(substeps: usize) -> Integrator {
     Integrator {
         tableau: RK4,
         substeps,
+        locate_crossings: true,
     }
 }
 
@@ -197,6 +198,7 @@ fn oscillator_matches_closed_form_to_rounding_with_dop853() {
             Integrator {
                 tableau: DOP853,
                 substeps: 10,
+                locate_crossings: true,
             },
         );
         for (name, err) in ["displacement", "velocity", "acceleration"].iter().zip(e) {
@@ -205,17 +207,26 @@ fn oscillator_matches_closed_form_to_rounding_with_dop853() {
     }
 }
 
-/// The model's own `substeps` (default 10) is what `Simulator::new` uses.
+/// The model's own `substeps` (default 1) is what `Simulator::new` uses,
+/// with the default method (DOP853, crossings located).
 #[test]
 fn simulator_uses_the_model_substeps() {
+    let dop = |substeps| Integrator {
+        tableau: DOP853,
+        substeps,
+        locate_crossings: true,
+    };
     let m = model(&sdof(C_DAMPED));
-    assert_eq!(m.sampling.substeps, 10);
-    assert_eq!(rfeid::simulation::Simulator::new(&m).integrator(), rk4(10));
+    assert_eq!(m.sampling.substeps, rfeid::simulation::DEFAULT_SUBSTEPS);
+    assert_eq!(
+        rfeid::simulation::Simulator::new(&m).integrator(),
+        dop(rfeid::simulation::DEFAULT_SUBSTEPS)
+    );
     let m = model(&sdof(C_DAMPED).replace(
         "sample_rate = 2000.0",
         "sample_rate = 2000.0\nsubsteps = 20",
     ));
-    assert_eq!(rfeid::simulation::Simulator::new(&m).integrator(), rk4(20));
+    assert_eq!(rfeid::simulation::Simulator::new(&m).integrator(), dop(20));
     assert_eq!(m.sampling.n_samples(), 500);
 }
 
@@ -223,6 +234,7 @@ fn dop853() -> Integrator {
     Integrator {
         tableau: DOP853,
         substeps: 10,
+        locate_crossings: true,
     }
 }
 

@@ -117,6 +117,7 @@ fn table_force_matches_the_closed_form() {
         Some(Integrator {
             tableau: DOP853,
             substeps: 10,
+            locate_crossings: true,
         }),
     );
     let e: Vec<(f64, f64, f64)> = times(&model).into_iter().map(exact).collect();

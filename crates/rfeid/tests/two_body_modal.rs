@@ -197,6 +197,7 @@ fn chain_matches_modal_superposition_to_rounding_with_dop853() {
         Integrator {
             tableau: DOP853,
             substeps: 10,
+            locate_crossings: true,
         },
         1e-12,
     );
@@ -211,6 +212,7 @@ fn exciter_between_the_bodies_matches_modal_superposition() {
         Integrator {
             tableau: DOP853,
             substeps: 10,
+            locate_crossings: true,
         },
         1e-12,
     );

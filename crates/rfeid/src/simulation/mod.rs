@@ -3,6 +3,7 @@
 pub mod equilibrium;
 pub mod modal;
 pub mod run;
+mod stepper;
 pub mod structure;
 pub mod system;
 pub mod tableau;
@@ -10,10 +11,10 @@ pub mod tableau;
 pub use run::{Integrator, Response, Sensitivities, Simulator, Workspace};
 
 /// The default integration method.
-pub const DEFAULT_TABLEAU: tableau::Tableau = tableau::RK4;
+pub const DEFAULT_TABLEAU: tableau::Tableau = tableau::DOP853;
 
 /// Default integrator steps per sample interval.
-pub const DEFAULT_SUBSTEPS: usize = 10;
+pub const DEFAULT_SUBSTEPS: usize = 1;
 
 /// Why a simulation failed. During identification such a point is recorded
 /// as failed, never fatal.

@@ -8,17 +8,22 @@
 //! central differences of [`Simulator::run`] to rounding, which is what a
 //! Gauss–Newton or Levenberg–Marquardt step needs (eq. 26–28 use the same H₁).
 //!
-//! Caveat: a fixed step does not adapt. The default, classical RK4 with ten
-//! steps per sample, is accurate to 3.5e-7 (relative RMS) on the knee–column
-//! benchmark, whose fastest modes are near 850 Hz at 10 kHz sampling; a model
-//! with much faster modes needs more `substeps` (`rfeid modal` shows them).
-//! The power law's second derivative jumps at δ = 0, which caps the order of
-//! any fixed-step method near four there (DOP853 gains far less than its
-//! nominal 2⁸ per halving), hence RK4.
-//! Explicit methods add no numerical damping at these step sizes but become
-//! unstable when `ω h` exceeds their stability limit; that ends in a
-//! [`SimulationError::Diverged`], never a hang.
+//! Steps are split where a power-law deformation crosses zero
+//! ([`super::stepper`]): there the force's second derivative jumps, and a step
+//! across it would lose the method's order. With the splitting, the default,
+//! DOP853 with one step per sample, agrees with an independent reference on
+//! the knee–column benchmark to 4e-9 (relative RMS); without it, DOP853 needs
+//! three steps per sample for 7e-7 and classical RK4 ten for 3e-7.
+//!
+//! Caveat: the step does not adapt. A model with modes much faster than the
+//! benchmark's (~850 Hz at 10 kHz sampling, ωh ≈ 0.5) needs more `substeps`
+//! (`rfeid modal` shows its modes at rest). The explicit method adds no
+//! numerical damping to speak of at these step sizes, but becomes unstable
+//! when ωh exceeds its stability limit (about 3 for DOP853's damped modes);
+//! that ends in [`SimulationError::Diverged`], never a hang.
 use super::equilibrium::static_equilibrium;
+use super::stepper::Stepper;
+pub use super::stepper::Workspace;
 use super::structure::Structure;
 use super::system::System;
 use super::tableau::Tableau;
@@ -65,36 +70,6 @@ pub struct Sensitivities {
     pub values: Vec<f64>,
 }
 
-/// Scratch memory for one run; reuse it so that runs do not allocate.
-#[derive(Debug, Clone, Default)]
-pub struct Workspace {
-    y: Vec<f64>,
-    ytmp: Vec<f64>,
-    k: Vec<f64>,
-    sy: Vec<f64>,
-    sytmp: Vec<f64>,
-    ks: Vec<f64>,
-    scratch: Vec<f64>,
-    forces: Vec<f64>,
-}
-
-impl Workspace {
-    fn prepare(&mut self, n: usize, stages: usize, r: usize) {
-        let resize = |v: &mut Vec<f64>, len: usize| {
-            v.clear();
-            v.resize(len, 0.0);
-        };
-        resize(&mut self.y, 2 * n);
-        resize(&mut self.ytmp, 2 * n);
-        resize(&mut self.k, stages * 2 * n);
-        resize(&mut self.sy, 2 * n * r);
-        resize(&mut self.sytmp, 2 * n * r);
-        resize(&mut self.ks, stages * 2 * n * r);
-        resize(&mut self.scratch, r.max(1));
-        resize(&mut self.forces, 0);
-    }
-}
-
 /// Integrator settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Integrator {
@@ -102,6 +77,9 @@ pub struct Integrator {
     pub tableau: Tableau,
     /// Steps per sample interval (≥ 1).
     pub substeps: usize,
+    /// Split steps at the zero crossings of power-law deformations, where
+    /// the force's second derivative jumps, so the method keeps its order.
+    pub locate_crossings: bool,
 }
 
 /// Simulates one model at any parameter point.
@@ -118,6 +96,7 @@ impl<'m> Simulator<'m> {
         let integrator = Integrator {
             tableau: DEFAULT_TABLEAU,
             substeps: model.sampling.substeps.max(1),
+            locate_crossings: true,
         };
         Self::with_integrator(model, integrator)
     }
@@ -228,17 +207,15 @@ impl<'m> Simulator<'m> {
     ) -> Result<(), SimulationError> {
         let sys = self.system(params)?;
         let n = sys.n;
-        let n2 = 2 * n;
         let r = wrt.len();
         let tab = &self.integrator.tableau;
-        let stages = tab.stages();
         let sampling = self.model.sampling;
         let n_samples = sampling.n_samples();
         let n_sensors = self.model.sensors.len();
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
-        ws.prepare(n, stages, r);
+        ws.prepare(n, tab.stages(), r, self.model.excitations.len());
 
         // Initial state: rest, or static equilibrium under gravity.
         let mut q0 = vec![0.0; n];
@@ -250,36 +227,20 @@ impl<'m> Simulator<'m> {
         }
         ws.y[..n].copy_from_slice(&q0);
         ws.sy[..n * r].copy_from_slice(&s0);
-        ws.forces.resize(self.model.excitations.len(), 0.0);
-        let mut forces_time = f64::NAN;
 
+        let st = Stepper {
+            sys: &sys,
+            tab,
+            wrt,
+            locate: self.integrator.locate_crossings,
+        };
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
         let total_steps = n_samples.saturating_sub(1) * substeps;
         let with_sens = sens.is_some();
         for step in 0..=total_steps {
             let t = step as f64 * h;
-            // Stage 1: F(t_n, y_n), which also gives the sample's acceleration.
-            let (k0, _) = ws.k.split_at_mut(n2);
-            k0[..n].copy_from_slice(&ws.y[n..]);
-            if t != forces_time {
-                sys.forces(t, &mut ws.forces);
-                forces_time = t;
-            }
-            sys.accel(&ws.forces, &ws.y, &mut k0[n..]);
-            if with_sens {
-                let (ks0, _) = ws.ks.split_at_mut(n2 * r);
-                ks0[..n * r].copy_from_slice(&ws.sy[n * r..]);
-                sys.accel_tangent(
-                    t,
-                    &ws.y,
-                    &k0[n..],
-                    wrt,
-                    &ws.sy,
-                    &mut ks0[n * r..],
-                    &mut ws.scratch,
-                );
-            }
+            st.first_stage(ws, t, with_sens);
             if step % substeps == 0 {
                 let k = step / substeps;
                 if ws.y.iter().any(|v| !(v.abs() < BLOW_UP)) {
@@ -288,7 +249,7 @@ impl<'m> Simulator<'m> {
                 record(
                     &self.structure,
                     &ws.y,
-                    &ws.k[n..n2],
+                    &ws.k[n..2 * n],
                     &q0,
                     k,
                     n_samples,
@@ -298,7 +259,7 @@ impl<'m> Simulator<'m> {
                     record_sens(
                         &self.structure,
                         &ws.sy,
-                        &ws.ks[n * r..n2 * r],
+                        &ws.ks[n * r..2 * n * r],
                         &s0,
                         k,
                         n_samples,
@@ -310,65 +271,9 @@ impl<'m> Simulator<'m> {
             if step == total_steps {
                 break;
             }
-            for i in 1..stages {
-                let ti = t + tab.c[i] * h;
-                stage_state(&ws.y, &ws.k, tab.a[i], h, n2, &mut ws.ytmp);
-                let (done, rest) = ws.k.split_at_mut(i * n2);
-                let _ = done;
-                let ki = &mut rest[..n2];
-                ki[..n].copy_from_slice(&ws.ytmp[n..]);
-                if ti != forces_time {
-                    sys.forces(ti, &mut ws.forces);
-                    forces_time = ti;
-                }
-                sys.accel(&ws.forces, &ws.ytmp, &mut ki[n..]);
-                if with_sens {
-                    stage_state(&ws.sy, &ws.ks, tab.a[i], h, n2 * r, &mut ws.sytmp);
-                    let (_, rest) = ws.ks.split_at_mut(i * n2 * r);
-                    let ksi = &mut rest[..n2 * r];
-                    ksi[..n * r].copy_from_slice(&ws.sytmp[n * r..]);
-                    sys.accel_tangent(
-                        ti,
-                        &ws.ytmp,
-                        &ki[n..],
-                        wrt,
-                        &ws.sytmp,
-                        &mut ksi[n * r..],
-                        &mut ws.scratch,
-                    );
-                }
-            }
-            advance(&mut ws.y, &ws.k, tab.b, h, n2);
-            if with_sens {
-                advance(&mut ws.sy, &ws.ks, tab.b, h, n2 * r);
-            }
+            st.step(ws, t, h, with_sens);
         }
         Ok(())
-    }
-}
-
-/// `out = y + h Σ_j a_j k_j`.
-#[inline(always)]
-fn stage_state(y: &[f64], k: &[f64], a: &[f64], h: f64, len: usize, out: &mut [f64]) {
-    out.copy_from_slice(y);
-    for (j, &aj) in a.iter().enumerate() {
-        if aj != 0.0 {
-            let kj = &k[j * len..(j + 1) * len];
-            let ha = h * aj;
-            out.iter_mut().zip(kj).for_each(|(o, kv)| *o += ha * kv);
-        }
-    }
-}
-
-/// `y += h Σ_j b_j k_j`.
-#[inline(always)]
-fn advance(y: &mut [f64], k: &[f64], b: &[f64], h: f64, len: usize) {
-    for (j, &bj) in b.iter().enumerate() {
-        if bj != 0.0 {
-            let kj = &k[j * len..(j + 1) * len];
-            let hb = h * bj;
-            y.iter_mut().zip(kj).for_each(|(o, kv)| *o += hb * kv);
-        }
     }
 }
 

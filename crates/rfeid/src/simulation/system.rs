@@ -21,6 +21,9 @@ pub struct PowerRow {
     pub a: f64,
     /// Exponent m ≥ 1.
     pub m: f64,
+    /// Whether the law is non-smooth at δ = 0: `sign(δ)|δ|^m` is the
+    /// polynomial δ^m for odd whole m, and non-smooth otherwise.
+    pub kinked: bool,
 }
 
 /// The force of the power law and its slope, `(a sign(δ)|δ|^m, m a |δ|^(m−1))`.
@@ -136,6 +139,7 @@ impl<'a> System<'a> {
                         minv_row,
                         a: a.eval(params),
                         m,
+                        kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
                     });
                 }
             }
@@ -286,11 +290,10 @@ impl<'a> System<'a> {
                 row_times::<8>(arow, sy, r, c0, out);
                 c0 += 8;
             }
+            // The rest one at a time, in the same order of operations, so a
+            // column's value does not depend on how many columns there are.
             for c in c0..r {
-                out[c] = arow
-                    .iter()
-                    .enumerate()
-                    .fold(0.0, |acc, (j, &aij)| acc + aij * sy[j * r + c]);
+                row_times::<1>(arow, sy, r, c, out);
             }
         }
         // Power-law springs: −M⁻¹ rowᵀ f'(δ) (row · S).

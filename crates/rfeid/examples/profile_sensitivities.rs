@@ -1,0 +1,29 @@
+//! Runs the knee–column simulation with its 16 sensitivities a few times and
+//! prints the mean time: a target for a profiler (`perf record`).
+use rfeid::io::model_file::load_model;
+use rfeid::simulation::{Sensitivities, Simulator, Workspace};
+use std::path::Path;
+use std::time::Instant;
+
+fn main() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml");
+    let model = load_model(&path).expect("model");
+    let sim = Simulator::new(&model);
+    let (params, wrt) = (model.nominal(), model.identified());
+    let (mut ws, mut out) = (Workspace::default(), sim.response_buffer());
+    let mut sens = Sensitivities {
+        wrt: Vec::new(),
+        values: Vec::new(),
+    };
+    let reps = 10;
+    let t0 = Instant::now();
+    for _ in 0..reps {
+        sim.run_with_sensitivities(&params, &wrt, &mut ws, &mut out, &mut sens)
+            .expect("runs");
+    }
+    println!(
+        "{:.1} ms per run with {} sensitivities",
+        t0.elapsed().as_secs_f64() * 1e3 / reps as f64,
+        wrt.len()
+    );
+}

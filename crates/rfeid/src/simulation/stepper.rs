@@ -1,0 +1,267 @@
+//! One explicit Runge–Kutta step of the state and, optionally, of its
+//! sensitivities, with steps split at the zero crossings of power-law
+//! deformations.
+//!
+//! The force `a·sign(δ)|δ|^m` (m > 1) has a second derivative that jumps at
+//! δ = 0. A step across such a point loses the method's order (local error
+//! O(h⁴) whatever the order). So each step is first taken for the state
+//! alone; if a power-law δ changes sign, the crossing instant is located on
+//! the cubic Hermite interpolant of δ (from δ and δ̇ at both ends, error
+//! O(h⁴) in δ) and the step is redone in pieces that end there.
+//!
+//! The sensitivities go through the same stages: for a fixed split they are
+//! the exact derivative of the discrete solution. The split instant itself
+//! depends on the parameters; its derivative is left out, which changes the
+//! sensitivities by the order of the local error only, because the exact
+//! flow does not depend on where a step is split.
+use super::system::System;
+use super::tableau::Tableau;
+
+/// Crossings closer together than this fraction of a step are one split.
+/// Every crossing is split off, however near a step's end: skipping those
+/// near the ends would make the computed response jump when a crossing moves
+/// past the threshold, and the criterion would no longer be smooth in the
+/// parameters. (A split at θ → 0 or 1 tends continuously to no split.)
+const MERGE: f64 = 1e-12;
+
+/// Scratch memory for one run; reuse it so that runs do not allocate.
+#[derive(Debug, Clone, Default)]
+pub struct Workspace {
+    pub(crate) y: Vec<f64>,
+    y_new: Vec<f64>,
+    /// Stage states, stages × 2n.
+    y_stage: Vec<f64>,
+    /// Stage derivatives, stages × 2n.
+    pub(crate) k: Vec<f64>,
+    pub(crate) sy: Vec<f64>,
+    sy_stage: Vec<f64>,
+    /// Stage derivatives of the sensitivities, stages × 2n·r.
+    pub(crate) ks: Vec<f64>,
+    scratch: Vec<f64>,
+    forces: Vec<f64>,
+    forces_time: f64,
+    crossings: Vec<f64>,
+}
+
+impl Workspace {
+    pub(crate) fn prepare(&mut self, n: usize, stages: usize, r: usize, excitations: usize) {
+        let resize = |v: &mut Vec<f64>, len: usize| {
+            v.clear();
+            v.resize(len, 0.0);
+        };
+        resize(&mut self.y, 2 * n);
+        resize(&mut self.y_new, 2 * n);
+        resize(&mut self.y_stage, stages * 2 * n);
+        resize(&mut self.k, stages * 2 * n);
+        resize(&mut self.sy, 2 * n * r);
+        resize(&mut self.sy_stage, 2 * n * r);
+        resize(&mut self.ks, stages * 2 * n * r);
+        resize(&mut self.scratch, r.max(1));
+        resize(&mut self.forces, excitations);
+        self.forces_time = f64::NAN;
+        self.crossings.clear();
+    }
+}
+
+/// What a step needs: the equations, the method, the sensitivity columns.
+pub(crate) struct Stepper<'a> {
+    pub sys: &'a System<'a>,
+    pub tab: &'a Tableau,
+    pub wrt: &'a [usize],
+    pub locate: bool,
+}
+
+impl Stepper<'_> {
+    /// `F(t, y)` into stage 0, and its sensitivity if wanted.
+    #[inline(always)]
+    pub fn first_stage(&self, ws: &mut Workspace, t: f64, with_sens: bool) {
+        let n = self.sys.n;
+        let n2 = 2 * n;
+        ws.y_stage[..n2].copy_from_slice(&ws.y);
+        self.derivative(ws, 0, t);
+        if with_sens {
+            let r = self.wrt.len();
+            ws.sy_stage.copy_from_slice(&ws.sy);
+            self.sens_derivative(ws, 0, t);
+            let _ = r;
+        }
+    }
+
+    /// Advances `y` (and `sy`) from t by h; stage 0 must hold `F(t, y)`.
+    #[inline(always)]
+    pub fn step(&self, ws: &mut Workspace, t: f64, h: f64, with_sens: bool) {
+        self.state_stages(ws, t, h);
+        if self.locate && self.find_crossings(ws, h) {
+            // Redo the step in pieces ending at the crossings.
+            let mut from = 0.0;
+            let mut i = 0;
+            while i <= ws.crossings.len() {
+                let to = if i < ws.crossings.len() {
+                    ws.crossings[i]
+                } else {
+                    1.0
+                };
+                let (ti, hi) = (t + from * h, (to - from) * h);
+                if i > 0 {
+                    self.first_stage(ws, ti, with_sens);
+                }
+                self.state_stages(ws, ti, hi);
+                if with_sens {
+                    self.sens_stages(ws, ti, hi);
+                }
+                std::mem::swap(&mut ws.y, &mut ws.y_new);
+                from = to;
+                i += 1;
+            }
+            return;
+        }
+        if with_sens {
+            self.sens_stages(ws, t, h);
+        }
+        std::mem::swap(&mut ws.y, &mut ws.y_new);
+    }
+
+    /// Stage i's derivative from stage state i.
+    #[inline(always)]
+    fn derivative(&self, ws: &mut Workspace, i: usize, t: f64) {
+        let n = self.sys.n;
+        let n2 = 2 * n;
+        if t != ws.forces_time {
+            self.sys.forces(t, &mut ws.forces);
+            ws.forces_time = t;
+        }
+        let ys = &ws.y_stage[i * n2..(i + 1) * n2];
+        let ki = &mut ws.k[i * n2..(i + 1) * n2];
+        ki[..n].copy_from_slice(&ys[n..]);
+        self.sys.accel(&ws.forces, ys, &mut ki[n..]);
+    }
+
+    /// Stage i's sensitivity derivative from `sy_stage` and stage state i.
+    #[inline(always)]
+    fn sens_derivative(&self, ws: &mut Workspace, i: usize, t: f64) {
+        let n = self.sys.n;
+        let n2 = 2 * n;
+        let r = self.wrt.len();
+        let ys = &ws.y_stage[i * n2..(i + 1) * n2];
+        let acc = &ws.k[i * n2 + n..(i + 1) * n2];
+        let ksi = &mut ws.ks[i * n2 * r..(i + 1) * n2 * r];
+        ksi[..n * r].copy_from_slice(&ws.sy_stage[n * r..]);
+        self.sys.accel_tangent(
+            t,
+            ys,
+            acc,
+            self.wrt,
+            &ws.sy_stage,
+            &mut ksi[n * r..],
+            &mut ws.scratch,
+        );
+    }
+
+    /// Stages 1.. of the state and `y_new = y + h Σ b_i k_i`.
+    #[inline(always)]
+    fn state_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
+        let n2 = 2 * self.sys.n;
+        for i in 1..self.tab.stages() {
+            {
+                let (done, rest) = ws.y_stage.split_at_mut(i * n2);
+                combine(&ws.y, &ws.k, self.tab.a[i], h, n2, &mut rest[..n2]);
+                let _ = done;
+            }
+            self.derivative(ws, i, t + self.tab.c[i] * h);
+        }
+        combine(&ws.y, &ws.k, self.tab.b, h, n2, &mut ws.y_new);
+    }
+
+    /// Stages 1.. of the sensitivities (reusing the state's stage states)
+    /// and `sy += h Σ b_i ks_i`.
+    #[inline(always)]
+    fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
+        let len = 2 * self.sys.n * self.wrt.len();
+        for i in 1..self.tab.stages() {
+            combine(&ws.sy, &ws.ks, self.tab.a[i], h, len, &mut ws.sy_stage);
+            self.sens_derivative(ws, i, t + self.tab.c[i] * h);
+        }
+        accumulate(&mut ws.sy, &ws.ks, self.tab.b, h, len);
+    }
+
+    /// Fractions θ ∈ (0, 1) of the step at which a power-law
+    /// deformation changes sign, sorted, into `ws.crossings`.
+    fn find_crossings(&self, ws: &mut Workspace, h: f64) -> bool {
+        let n = self.sys.n;
+        ws.crossings.clear();
+        for pr in self.sys.power.iter().filter(|p| p.kinked) {
+            let d0 = pr.row.dot(&ws.y[..n]);
+            let d1 = pr.row.dot(&ws.y_new[..n]);
+            if !(d0 * d1 < 0.0) {
+                continue;
+            }
+            let v0 = h * pr.row.dot(&ws.y[n..]);
+            let v1 = h * pr.row.dot(&ws.y_new[n..]);
+            let theta = hermite_root(d0, v0, d1, v1);
+            if theta > 0.0 && theta < 1.0 {
+                ws.crossings.push(theta);
+            }
+        }
+        ws.crossings.sort_by(f64::total_cmp);
+        ws.crossings.dedup_by(|a, b| (*a - *b).abs() < MERGE);
+        !ws.crossings.is_empty()
+    }
+}
+
+/// The root in (0, 1) of the cubic Hermite interpolant with values d0, d1
+/// and derivatives (per unit θ) v0, v1, where d0 and d1 differ in sign.
+fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
+    let p = |s: f64| {
+        let s2 = s * s;
+        let s3 = s2 * s;
+        (2.0 * s3 - 3.0 * s2 + 1.0) * d0
+            + (s3 - 2.0 * s2 + s) * v0
+            + (-2.0 * s3 + 3.0 * s2) * d1
+            + (s3 - s2) * v1
+    };
+    // Bisection on the bracket: the interpolant may have several roots, and
+    // any one inside is as good (the sign change is what matters).
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let neg_at_lo = d0 < 0.0;
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if (p(mid) < 0.0) == neg_at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// `out = y + h Σ_j a_j k_j`.
+#[inline(always)]
+fn combine(y: &[f64], k: &[f64], a: &[f64], h: f64, len: usize, out: &mut [f64]) {
+    out.copy_from_slice(y);
+    accumulate(out, k, a, h, len);
+}
+
+/// `y += h Σ_j a_j k_j`.
+#[inline(always)]
+fn accumulate(y: &mut [f64], k: &[f64], a: &[f64], h: f64, len: usize) {
+    for (j, &aj) in a.iter().enumerate() {
+        if aj != 0.0 {
+            let kj = &k[j * len..(j + 1) * len];
+            let ha = h * aj;
+            y.iter_mut().zip(kj).for_each(|(o, kv)| *o += ha * kv);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hermite_root;
+
+    #[test]
+    fn hermite_root_finds_the_crossing_of_a_cubic() {
+        // δ(θ) = (θ − 0.3)(1 + θ): values and derivatives at the ends.
+        let (d0, v0) = (-0.3, 1.0 - 0.3);
+        let (d1, v1) = (0.7 * 2.0, 2.0 * 1.0 + 1.0 - 0.3);
+        assert!((hermite_root(d0, v0, d1, v1) - 0.3).abs() < 1e-11);
+    }
+}
