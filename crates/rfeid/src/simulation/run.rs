@@ -228,12 +228,7 @@ impl<'m> Simulator<'m> {
         ws.y[..n].copy_from_slice(&q0);
         ws.sy[..n * r].copy_from_slice(&s0);
 
-        let st = Stepper {
-            sys: &sys,
-            tab,
-            wrt,
-            locate: self.integrator.locate_crossings,
-        };
+        let st = Stepper::new(&sys, tab, wrt, self.integrator.locate_crossings);
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
         let total_steps = n_samples.saturating_sub(1) * substeps;

@@ -65,13 +65,38 @@ impl Workspace {
 
 /// What a step needs: the equations, the method, the sensitivity columns.
 pub(crate) struct Stepper<'a> {
-    pub sys: &'a System<'a>,
-    pub tab: &'a Tableau,
-    pub wrt: &'a [usize],
-    pub locate: bool,
+    sys: &'a System<'a>,
+    tab: &'a Tableau,
+    wrt: &'a [usize],
+    locate: bool,
+    /// The nonzero `a_ij` of each stage, as (j, a_ij).
+    a_nz: Vec<Vec<(usize, f64)>>,
+    /// The nonzero `b_i`, as (i, b_i).
+    b_nz: Vec<(usize, f64)>,
 }
 
-impl Stepper<'_> {
+/// The nonzero entries of a row of coefficients.
+fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
+    row.iter()
+        .enumerate()
+        .filter(|(_, v)| **v != 0.0)
+        .map(|(j, v)| (j, *v))
+        .collect()
+}
+
+impl<'a> Stepper<'a> {
+    /// A stepper for one run (allocates its small coefficient lists once).
+    pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &'a [usize], locate: bool) -> Self {
+        Stepper {
+            sys,
+            tab,
+            wrt,
+            locate,
+            a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
+            b_nz: nonzero(tab.b),
+        }
+    }
+
     /// `F(t, y)` into stage 0, and its sensitivity if wanted.
     #[inline(always)]
     pub fn first_stage(&self, ws: &mut Workspace, t: f64, with_sens: bool) {
@@ -164,12 +189,12 @@ impl Stepper<'_> {
         for i in 1..self.tab.stages() {
             {
                 let (done, rest) = ws.y_stage.split_at_mut(i * n2);
-                combine(&ws.y, &ws.k, self.tab.a[i], h, n2, &mut rest[..n2]);
+                combine(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
                 let _ = done;
             }
             self.derivative(ws, i, t + self.tab.c[i] * h);
         }
-        combine(&ws.y, &ws.k, self.tab.b, h, n2, &mut ws.y_new);
+        combine(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
     }
 
     /// Stages 1.. of the sensitivities (reusing the state's stage states)
@@ -178,10 +203,10 @@ impl Stepper<'_> {
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
         let len = 2 * self.sys.n * self.wrt.len();
         for i in 1..self.tab.stages() {
-            combine(&ws.sy, &ws.ks, self.tab.a[i], h, len, &mut ws.sy_stage);
+            combine(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
         }
-        accumulate(&mut ws.sy, &ws.ks, self.tab.b, h, len);
+        accumulate(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
     }
 
     /// Fractions θ ∈ (0, 1) of the step at which a power-law
@@ -234,23 +259,53 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// `out = y + h Σ_j a_j k_j`.
+/// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, eight elements
+/// at a time with the sum over the stages in registers (one pass over the
+/// output, not one per stage).
 #[inline(always)]
-fn combine(y: &[f64], k: &[f64], a: &[f64], h: f64, len: usize, out: &mut [f64]) {
-    out.copy_from_slice(y);
-    accumulate(out, k, a, h, len);
+fn combine(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
+    let mut e0 = 0;
+    while e0 + 8 <= len {
+        let s = stage_sum::<8>(k, a, len, e0);
+        let (yc, oc) = (&y[e0..e0 + 8], &mut out[e0..e0 + 8]);
+        for q in 0..8 {
+            oc[q] = yc[q] + h * s[q];
+        }
+        e0 += 8;
+    }
+    for e in e0..len {
+        out[e] = y[e] + h * stage_sum::<1>(k, a, len, e)[0];
+    }
 }
 
-/// `y += h Σ_j a_j k_j`.
+/// `y += h Σ_j a_j k_j`, like [`combine`].
 #[inline(always)]
-fn accumulate(y: &mut [f64], k: &[f64], a: &[f64], h: f64, len: usize) {
-    for (j, &aj) in a.iter().enumerate() {
-        if aj != 0.0 {
-            let kj = &k[j * len..(j + 1) * len];
-            let ha = h * aj;
-            y.iter_mut().zip(kj).for_each(|(o, kv)| *o += ha * kv);
+fn accumulate(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) {
+    let mut e0 = 0;
+    while e0 + 8 <= len {
+        let s = stage_sum::<8>(k, a, len, e0);
+        let yc = &mut y[e0..e0 + 8];
+        for q in 0..8 {
+            yc[q] += h * s[q];
+        }
+        e0 += 8;
+    }
+    for e in e0..len {
+        y[e] += h * stage_sum::<1>(k, a, len, e)[0];
+    }
+}
+
+/// `Σ_j a_j k_j[e0 .. e0 + W]`.
+#[inline(always)]
+fn stage_sum<const W: usize>(k: &[f64], a: &[(usize, f64)], len: usize, e0: usize) -> [f64; W] {
+    let mut s = [0.0; W];
+    for &(j, aj) in a {
+        let kj = &k[j * len + e0..j * len + e0 + W];
+        for q in 0..W {
+            s[q] += aj * kj[q];
         }
     }
+    s
 }
 
 #[cfg(test)]

@@ -64,6 +64,10 @@ pub struct System<'a> {
     pub minv_loads: Vec<Vec<f64>>,
     /// `M⁻¹ × weight` (constant), n.
     pub minv_gravity: Vec<f64>,
+    /// Power-law rows of B in 4-row panels, `[panel][coordinate][4]`, zero-padded.
+    power_b: Vec<f64>,
+    /// `(a, m)` per power-law row, padded to whole panels with `(0, 2)`.
+    power_am: Vec<(f64, f64)>,
     /// Per component row i: the nonzero entries of `M⁻¹ B_iᵀ` as (coordinate, value).
     comp_minv: Vec<Vec<(usize, f64)>>,
     /// Per component row: `(a, m)` of a power law (unused otherwise).
@@ -184,7 +188,19 @@ impl<'a> System<'a> {
                 _ => (0.0, 1.0),
             })
             .collect();
+        let panels = power.len().div_ceil(4);
+        let mut power_b = vec![0.0; panels * n * 4];
+        let mut power_am = vec![(0.0, 2.0); panels * 4];
+        for (k, pr) in power.iter().enumerate() {
+            let dense = pr.row.dense(n);
+            for (j, v) in dense.iter().enumerate() {
+                power_b[((k / 4) * n + j) * 4 + k % 4] = *v;
+            }
+            power_am[k] = (pr.a, pr.m);
+        }
         Ok(System {
+            power_b,
+            power_am,
             comp_minv,
             comp_power,
             structure,
@@ -244,13 +260,26 @@ impl<'a> System<'a> {
                 axpy(p, l, acc);
             }
         }
-        for pr in &self.power {
-            let d = pr.row.dot(&y[..n]);
-            let (f, _) = power_law(pr.a, pr.m, d);
-            if f != 0.0 {
-                acc.iter_mut()
-                    .zip(&pr.minv_row)
-                    .for_each(|(a, g)| *a -= f * g);
+        // Power-law springs four at a time: δ = B q for the panel, then
+        // q̈ −= M⁻¹ Bᵀ f(δ) (eq. 2–6).
+        for (p, (panel, am)) in self
+            .power_b
+            .chunks_exact(4 * n)
+            .zip(self.power_am.chunks_exact(4))
+            .enumerate()
+        {
+            let mut d = [0.0; 4];
+            for (b, &qj) in panel.chunks_exact(4).zip(&y[..n]) {
+                for i in 0..4 {
+                    d[i] += b[i] * qj;
+                }
+            }
+            for (i, &(a, m)) in am.iter().enumerate() {
+                let (f, _) = power_law(a, m, d[i]);
+                if f != 0.0 {
+                    let g = &self.power[4 * p + i].minv_row;
+                    acc.iter_mut().zip(g).for_each(|(ai, gi)| *ai -= f * gi);
+                }
             }
         }
     }
