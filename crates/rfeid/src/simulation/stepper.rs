@@ -273,8 +273,8 @@ fn combine(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &m
         }
         e0 += 8;
     }
-    for e in e0..len {
-        out[e] = y[e] + h * stage_sum::<1>(k, a, len, e)[0];
+    for (e, (o, ye)) in out.iter_mut().zip(y).enumerate().take(len).skip(e0) {
+        *o = ye + h * stage_sum::<1>(k, a, len, e)[0];
     }
 }
 
@@ -290,8 +290,8 @@ fn accumulate(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) 
         }
         e0 += 8;
     }
-    for e in e0..len {
-        y[e] += h * stage_sum::<1>(k, a, len, e)[0];
+    for (e, ye) in y.iter_mut().enumerate().take(len).skip(e0) {
+        *ye += h * stage_sum::<1>(k, a, len, e)[0];
     }
 }
 
