@@ -13,6 +13,12 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
+    /// Print nothing but results and errors (no progress, no notes).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// Print machine-readable JSON on stdout instead of tables.
+    #[arg(long, global = true)]
+    pub json: bool,
 }
 
 /// The commands.
@@ -79,6 +85,9 @@ pub struct ModalArgs {
     /// Also print the mode shapes.
     #[arg(long)]
     pub shapes: bool,
+    /// Also write frequencies, damping ratios and mode shapes to this JSON file.
+    #[arg(long = "json-file", value_name = "FILE")]
+    pub json_file: Option<PathBuf>,
 }
 
 /// Settings shared by `identify` and `demo`.

@@ -3,14 +3,39 @@ use super::common::load;
 use crate::cli::CheckArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::ui::Ui;
 use rfeid::model::{Attachment, Law, Model, COMPONENT_NAMES};
 
 /// Runs the command.
-pub fn run(args: CheckArgs) -> Result<(), Failure> {
+pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
+    if ui.json {
+        return ui.print_json(&json_summary(&model));
+    }
     print!("{}", summary(&model));
     println!("\n{}: OK", args.model.display());
     Ok(())
+}
+
+/// The model's summary for `--json`.
+fn json_summary(model: &Model) -> serde_json::Value {
+    let s = model.sampling;
+    serde_json::json!({
+        "bodies": model.bodies.iter().map(|b| &b.name).collect::<Vec<_>>(),
+        "degrees_of_freedom": model.n_dof(),
+        "elements": model.elements.iter().map(|e| &e.name).collect::<Vec<_>>(),
+        "sensors": model.sensors.iter().map(|s| serde_json::json!({"name": s.name, "unit": s.kind.unit()})).collect::<Vec<_>>(),
+        "samples": s.n_samples(),
+        "sample_rate": s.sample_rate,
+        "parameters": model.parameters.iter().map(|p| serde_json::json!({
+            "name": p.name,
+            "nominal": p.value,
+            "min": p.bounds.map(|b| b.0),
+            "max": p.bounds.map(|b| b.1),
+            "identified": p.bounds.is_some(),
+            "si_unit": p.dimension.to_string(),
+        })).collect::<Vec<_>>(),
+    })
 }
 
 /// A readable summary of a model.

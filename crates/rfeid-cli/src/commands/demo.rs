@@ -1,7 +1,8 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use super::identify::{print_result, run_search, write_result};
+use super::identify::{run_search, show_result, write_result};
 use crate::cli::DemoArgs;
 use crate::diagnostics::{model_error, Failure};
+use crate::ui::Ui;
 use rfeid::io::model_file::parse_model;
 use rfeid::measurement::add_noise;
 use rfeid::simulation::{Simulator, Workspace};
@@ -11,7 +12,7 @@ use std::path::Path;
 const KNEE_COLUMN: &str = include_str!("../../../../examples/knee-column/model.toml");
 
 /// Runs the command.
-pub fn run(args: DemoArgs) -> Result<(), Failure> {
+pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
     let model = parse_model(KNEE_COLUMN, Path::new("examples/knee-column/model.toml"))
         .map_err(model_error)?;
     let truth = model.nominal();
@@ -27,24 +28,35 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
         }
         Some(f) => {
             add_noise(&mut data, f, args.seed);
-            eprintln!(
+            ui.note(format!(
                 "knee–column benchmark: data simulated with {}% noise (seed {})",
                 100.0 * f,
                 args.seed
-            );
+            ));
         }
-        None => eprintln!(
-            "knee–column benchmark: noise-free data simulated at the true parameter values"
-        ),
+        None => {
+            ui.note("knee–column benchmark: noise-free data simulated at the true parameter values")
+        }
     }
-    eprintln!(
+    ui.note(format!(
         "identifying {} parameters from {} signals × {} samples",
         model.identified().len(),
         model.sensors.len(),
         model.sampling.n_samples()
-    );
-    let result = run_search(&model, data, &args.search)?;
-    print_result(&model, &result, "actual", args.search.timings);
+    ));
+    let mut result = run_search(&model, data, &args.search, ui)?;
+    result.source.model =
+        Some("built-in knee–column benchmark (examples/knee-column/model.toml)".into());
+    result.source.demo_noise = args.noise;
+    result.source.demo_seed = args.noise.map(|_| args.seed);
+    if let Some(path) = &args.output {
+        write_result(path, &result)?;
+        ui.note(format!("result written to {}", path.display()));
+    }
+    show_result(&model, &result, "actual", args.search.timings, ui)?;
+    if ui.json {
+        return Ok(());
+    }
     let worst = result
         .parameters
         .iter()
@@ -59,9 +71,5 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
         "largest error: {:.4}% ({}); the paper's was 11.4% (h_t3) after about 7.3 hours",
         worst.1, worst.0
     );
-    if let Some(path) = &args.output {
-        write_result(path, &result)?;
-        eprintln!("result written to {}", path.display());
-    }
     Ok(())
 }

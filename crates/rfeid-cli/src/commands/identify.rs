@@ -3,6 +3,7 @@ use super::common::load;
 use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{
@@ -17,21 +18,40 @@ use rfeid::simulation::{Response, Simulator};
 use std::path::Path;
 
 /// Runs the command.
-pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
+pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
     let data = read_csv(&args.data).map_err(Failure::input_msg)?;
     let measured = match_data(&model, &data)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", args.data.display())))?;
-    let result = run_search(&model, measured, &args.search)?;
-    print_result(&model, &result, "nominal", args.search.timings);
+    let mut result = run_search(&model, measured, &args.search, ui)?;
+    result.source.model = Some(args.model.display().to_string());
+    result.source.data = Some(args.data.display().to_string());
     write_result(&args.output, &result)?;
-    eprintln!("result written to {}", args.output.display());
+    show_result(&model, &result, "nominal", args.search.timings, ui)?;
+    ui.note(format!("result written to {}", args.output.display()));
     Ok(())
+}
+
+/// The tables, or the result as JSON with `--json`.
+pub fn show_result(
+    model: &Model,
+    r: &IdentificationResult,
+    reference: &str,
+    timings: bool,
+    ui: &Ui,
+) -> Result<(), Failure> {
+    if ui.json {
+        ui.print_json(r)
+    } else {
+        print_result(model, r, reference, timings);
+        Ok(())
+    }
 }
 
 /// Progress on stderr: a bar over the plan, then one line per iteration.
 struct Bars {
     bar: ProgressBar,
+    quiet: bool,
 }
 
 impl Progress for Bars {
@@ -44,10 +64,14 @@ impl Progress for Bars {
     }
     fn search_started(&self, k: usize, of: usize, cost: f64) {
         self.bar.finish_and_clear();
-        eprintln!("local search {}/{of} from the plan's J = {cost:.6e}", k + 1);
+        if !self.quiet {
+            eprintln!("local search {}/{of} from the plan's J = {cost:.6e}", k + 1);
+        }
     }
     fn iteration(&self, iteration: usize, cost: f64) {
-        eprintln!("  iteration {iteration:3}  J = {cost:.6e}");
+        if !self.quiet {
+            eprintln!("  iteration {iteration:3}  J = {cost:.6e}");
+        }
     }
 }
 
@@ -56,6 +80,7 @@ pub fn run_search(
     model: &Model,
     measured: Response,
     a: &SearchArgs,
+    ui: &Ui,
 ) -> Result<IdentificationResult, Failure> {
     if let Some(t) = a.threads {
         if t == 0 {
@@ -101,13 +126,21 @@ pub fn run_search(
         ..Settings::default()
     };
     let problem = OutputError::new(Simulator::new(model), measured, first);
-    let bar = ProgressBar::with_draw_target(Some(a.plan as u64), ProgressDrawTarget::stderr());
+    let target = if ui.quiet {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let bar = ProgressBar::with_draw_target(Some(a.plan as u64), target);
     bar.set_style(
         ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} points, {elapsed} (eta {eta})")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    let progress = Bars { bar };
+    let progress = Bars {
+        bar,
+        quiet: ui.quiet,
+    };
     let result = identify(problem, &settings, &progress).map_err(|e| match e {
         IdentifyError::NoParameters | IdentifyError::Plan(_) | IdentifyError::NoStarts => {
             Failure::input_msg(e)

@@ -3,17 +3,36 @@ use super::common::{apply_sets, load};
 use crate::cli::ModalArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::ui::Ui;
+use rfeid::io::atomic::write_atomically;
 use rfeid::simulation::modal::modal_analysis;
 use rfeid::simulation::Simulator;
 
 /// Runs the command.
-pub fn run(args: ModalArgs) -> Result<(), Failure> {
+pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
     let sim = Simulator::new(&model);
     let modal = modal_analysis(&sim, &params)
         .map_err(|e| Failure::failed(format!("modal analysis failed: {e}")))?;
+    let coordinates: Vec<String> = model
+        .bodies
+        .iter()
+        .flat_map(|b| ["u1", "u2", "u3", "phi1", "phi2", "phi3"].map(|c| format!("{}.{c}", b.name)))
+        .collect();
+    let json = serde_json::json!({ "coordinates": coordinates, "analysis": modal });
+    if let Some(path) = &args.json_file {
+        write_atomically(path, |w| {
+            serde_json::to_writer_pretty(&mut *w, &json).map_err(std::io::Error::other)?;
+            std::io::Write::write_all(w, b"\n")
+        })
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+        ui.note(format!("modes written to {}", path.display()));
+    }
+    if ui.json {
+        return ui.print_json(&json);
+    }
     println!(
         "Modes of the model linearised {}",
         if modal.at_equilibrium {

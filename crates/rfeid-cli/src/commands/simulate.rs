@@ -2,12 +2,13 @@
 use super::common::{apply_sets, load};
 use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
+use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv;
 use rfeid::measurement::{add_noise, rms, to_timeseries};
 use rfeid::simulation::{Integrator, Simulator, Workspace};
 
 /// Runs the command.
-pub fn run(args: SimulateArgs) -> Result<(), Failure> {
+pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
@@ -40,20 +41,30 @@ pub fn run(args: SimulateArgs) -> Result<(), Failure> {
         add_noise(&mut out, f, args.seed);
     }
     write_csv(&args.output, &to_timeseries(&model, &out)).map_err(Failure::input_msg)?;
-    eprintln!(
+    if ui.json {
+        return ui.print_json(&serde_json::json!({
+            "output": args.output,
+            "samples": out.n_samples,
+            "elapsed_ms": elapsed.as_secs_f64() * 1e3,
+            "sensors": model.sensors.iter().enumerate().map(|(c, s)| serde_json::json!({
+                "name": s.name, "unit": s.kind.unit(), "rms": rms(out.sensor(c)),
+            })).collect::<Vec<_>>(),
+        }));
+    }
+    ui.note(format!(
         "{} samples × {} sensors in {:.1} ms → {}",
         out.n_samples,
         out.n_sensors,
         elapsed.as_secs_f64() * 1e3,
         args.output.display()
-    );
+    ));
     for (c, s) in model.sensors.iter().enumerate() {
-        eprintln!(
+        ui.note(format!(
             "  {:<16} RMS {:.4e} {}",
             s.name,
             rms(out.sensor(c)),
             s.kind.unit()
-        );
+        ));
     }
     Ok(())
 }

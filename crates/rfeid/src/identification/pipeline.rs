@@ -366,6 +366,7 @@ pub fn identify(
             total: t_start.elapsed().as_secs_f64(),
         },
         threads: rayon::current_num_threads(),
+        source: Default::default(),
     })
 }
 

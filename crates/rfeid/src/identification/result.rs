@@ -61,6 +61,20 @@ pub struct Timings {
     pub total: f64,
 }
 
+/// Where the model and the data came from, so that a report can be rebuilt
+/// from RESULT.json alone.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Source {
+    /// The model file, as given.
+    pub model: Option<String>,
+    /// The data file, as given.
+    pub data: Option<String>,
+    /// For `rfeid demo`: the noise fraction of the simulated data (None: noise-free).
+    pub demo_noise: Option<f64>,
+    /// For `rfeid demo`: the noise seed.
+    pub demo_seed: Option<u64>,
+}
+
 /// Everything an identification found.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct IdentificationResult {
@@ -110,4 +124,7 @@ pub struct IdentificationResult {
     pub timings: Timings,
     /// Worker threads.
     pub threads: usize,
+    /// Where the model and data came from.
+    #[serde(default)]
+    pub source: Source,
 }
