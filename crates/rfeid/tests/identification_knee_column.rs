@@ -154,3 +154,42 @@ fn bfgs_reaches_one_percent_on_the_noise_free_demo() {
     );
     assert!(worst < 1e-2, "worst relative error {worst:e}");
 }
+
+/// The whole identification (plan, local search, bounds) gives bit-identical
+/// results on one thread and on two.
+#[test]
+fn identification_does_not_depend_on_the_thread_count() {
+    let model = knee_column();
+    let measured = data(&model, Some((0.02, 7)));
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let settings = Settings {
+            plan_points: 24,
+            starts: 2,
+            ..Settings::default()
+        };
+        pool.install(|| {
+            identify(
+                OutputError::new(Simulator::new(&model), measured.clone(), 0),
+                &settings,
+                &Silent,
+            )
+        })
+        .expect("identifies")
+    };
+    let (one, two) = (on(1), on(2));
+    assert_eq!(one.criterion.to_bits(), two.criterion.to_bits());
+    assert_eq!(one.plan.costs, two.plan.costs);
+    for (a, b) in one.parameters.iter().zip(&two.parameters) {
+        assert_eq!(a.estimate.to_bits(), b.estimate.to_bits(), "{}", a.name);
+        assert_eq!(
+            a.std_error.map(f64::to_bits),
+            b.std_error.map(f64::to_bits),
+            "{}",
+            a.name
+        );
+    }
+}
