@@ -138,16 +138,16 @@ fn summary(out: &mut String, input: &ReportInput) {
     }
     let samples = input.time.len();
     let mut rows: Vec<(&str, String)> = vec![
-        ("criterion J (eq. 13)", sig(r.criterion, 6)),
+        ("criterion J (eq. 13)", sig(r.criterion, 4)),
         (
             "s² (eq. 29)",
             r.s2.map_or_else(|| "not available".into(), |v| sig(v, 4)),
         ),
-        ("sum of squared residuals", sig(r.ssr, 6)),
+        ("sum of squared residuals", sig(r.ssr, 4)),
         (
             "observations N",
             format!(
-                "{} ({} sensors × {} samples used of {})",
+                "{} = {} sensors × {} samples (of {} recorded)",
                 r.observations,
                 r.sensors.len(),
                 r.observations / r.sensors.len().max(1),
@@ -379,7 +379,7 @@ pub(crate) fn page(input: &ReportInput, figs: &[Figure]) -> String {
         t = escape(&input.title)
     );
     for (id, title) in SECTIONS {
-        let _ = write!(out, "<a href=\"#{id}\">{}</a>", escape(title));
+        let _ = writeln!(out, "<a href=\"#{id}\">{}</a>", escape(title));
     }
     out.push_str("</nav>\n");
     summary(&mut out, input);
