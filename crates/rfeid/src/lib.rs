@@ -7,4 +7,5 @@ pub mod identification;
 pub mod io;
 pub mod measurement;
 pub mod model;
+pub mod report;
 pub mod simulation;

@@ -1,0 +1,334 @@
+//! A self-contained HTML report of an identification: one file, every
+//! figure an inline SVG, no network, no JavaScript, readable in any browser
+//! and printable. Each figure is also written as a standalone `.svg`.
+//!
+//! The page, in order: a summary (converged or not, J, s², N, the worst
+//! error against a reference if one is given, timings); the identifiability
+//! warnings; the parameter table with the estimates drawn inside their boxes
+//! with ±1 and ±3 Cramér–Rao standard errors (eq. 26); measured against model
+//! response for each sensor (the paper's Fig. 2) with a zoomed window where
+//! the residuals are largest; the residuals; the LP_τ plan's criterion values
+//! sorted, failed points marked (eq. 18–19); the local search history; the
+//! correlation matrix as a heat map; the model.
+//!
+//! The figures are drawn by a small SVG writer in this module (`svg.rs`,
+//! `axis.rs`) rather than a plotting crate: text is placed with a fixed-width
+//! estimate, so no font file, font rasteriser or C library is involved, and
+//! long signals are decimated to each pixel column's extremes
+//! (`decimate.rs`) so the knee–column report stays well under 300 KB.
+//!
+//! Caveat: the standard errors and correlations shown are those of the
+//! result (Cramér–Rao bounds), which assume white Gaussian noise and a
+//! correct model; the report does not test either assumption, but the
+//! residual plots are where a misfit shows.
+mod axis;
+mod correlation;
+mod decimate;
+mod fmt;
+mod history;
+mod html;
+mod intervals;
+mod model_summary;
+mod plan;
+mod signals;
+mod svg;
+
+use crate::identification::result::IdentificationResult;
+use crate::model::Model;
+use crate::simulation::Response;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Everything a report shows.
+pub struct ReportInput<'a> {
+    /// Heading, e.g. "knee–column benchmark, 2 % noise, seed 1".
+    pub title: String,
+    /// The model (bodies, elements, sensors, parameters with boxes).
+    pub model: &'a Model,
+    /// The identification's outcome.
+    pub result: &'a IdentificationResult,
+    /// Sample instants, s.
+    pub time: &'a [f64],
+    /// Measured signals, sensor-major, in the order of `result.sensors`.
+    pub measured: &'a Response,
+    /// Model response at the estimate, shaped like `measured`.
+    pub fitted: &'a Response,
+    /// "Actual" values of the identified parameters (e.g. a demo's truth),
+    /// SI, in the order of `result.parameters`.
+    pub reference: Option<&'a [f64]>,
+}
+
+/// The files a report consists of.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ReportFiles {
+    /// `DIR/report.html`, with every figure inline.
+    pub html: PathBuf,
+    /// The same figures as standalone SVG files, in page order.
+    pub figures: Vec<PathBuf>,
+}
+
+/// Why a report could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// Two inputs that must agree in size do not.
+    #[error("{what}: expected {expected}, found {found}")]
+    Mismatch {
+        /// Which size, e.g. "samples in the fitted response".
+        what: &'static str,
+        /// The size the other inputs imply.
+        expected: usize,
+        /// The size given.
+        found: usize,
+    },
+    /// The record is too short to draw.
+    #[error("the record has {samples} samples; a report needs at least 2")]
+    TooFewSamples {
+        /// Samples given.
+        samples: usize,
+    },
+    /// The report directory could not be created.
+    #[error("cannot create the report directory {path}: {source}")]
+    CreateDir {
+        /// The directory.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A report file could not be written.
+    #[error("cannot write {path}: {source}")]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// The section headings of the page, in order, with their anchors.
+pub const SECTIONS: [(&str, &str); 9] = [
+    ("summary", "Summary"),
+    ("warnings", "Identifiability warnings"),
+    ("parameters", "Parameters"),
+    ("response", "Measured and model response"),
+    ("residuals", "Residuals"),
+    ("plan", "LP_τ plan"),
+    ("history", "Local search history"),
+    ("correlation", "Correlation of the estimates"),
+    ("model", "Model"),
+];
+
+/// One figure: its file name, the section it belongs to, a caption, the SVG.
+pub(crate) struct Figure {
+    pub file: String,
+    pub section: &'static str,
+    pub caption: String,
+    pub svg: String,
+}
+
+/// Checks that the inputs agree in size.
+fn check(input: &ReportInput) -> Result<(), ReportError> {
+    let r = input.result;
+    let n = input.time.len();
+    if n < 2 {
+        return Err(ReportError::TooFewSamples { samples: n });
+    }
+    let same = |what, expected: usize, found: usize| {
+        if expected == found {
+            Ok(())
+        } else {
+            Err(ReportError::Mismatch {
+                what,
+                expected,
+                found,
+            })
+        }
+    };
+    same(
+        "samples in the measured response",
+        n,
+        input.measured.n_samples,
+    )?;
+    same("samples in the fitted response", n, input.fitted.n_samples)?;
+    same(
+        "sensors in the measured response",
+        r.sensors.len(),
+        input.measured.n_sensors,
+    )?;
+    same(
+        "sensors in the fitted response",
+        r.sensors.len(),
+        input.fitted.n_sensors,
+    )?;
+    same(
+        "values in the measured response",
+        n * r.sensors.len(),
+        input.measured.values.len(),
+    )?;
+    same(
+        "values in the fitted response",
+        n * r.sensors.len(),
+        input.fitted.values.len(),
+    )?;
+    if let Some(reference) = input.reference {
+        same(
+            "reference values (one per identified parameter)",
+            r.parameters.len(),
+            reference.len(),
+        )?;
+    }
+    if let Some(c) = &r.correlation {
+        same(
+            "rows of the correlation matrix",
+            r.parameters.len(),
+            c.len(),
+        )?;
+        for row in c {
+            same(
+                "columns of the correlation matrix",
+                r.parameters.len(),
+                row.len(),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// A file name made of ASCII letters, digits, `-` and `_`.
+fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Every figure of the report, in page order.
+pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
+    let r = input.result;
+    let mut out = Vec::new();
+    out.push(Figure {
+        file: "parameters.svg".into(),
+        section: "parameters",
+        caption: "Each estimate (dot) inside its box (grey bar, normalised to 0 = min, 1 = max), \
+                  with ±1 (thick) and ±3 (thin) standard errors; the nominal value as a tick"
+            .to_owned()
+            + if input.reference.is_some() {
+                ", the reference as a diamond."
+            } else {
+                "."
+            },
+        svg: intervals::interval_figure(&r.parameters, input.reference),
+    });
+    let channels: Vec<signals::Channel> = r
+        .sensors
+        .iter()
+        .enumerate()
+        .map(|(c, name)| signals::Channel {
+            name,
+            unit: input
+                .model
+                .sensor_index(name)
+                .map(|i| signals::sensor_unit(input.model.sensors[i].kind))
+                .unwrap_or_default(),
+            measured: input.measured.sensor(c),
+            model: input.fitted.sensor(c),
+        })
+        .collect();
+    for (c, ch) in channels.iter().enumerate() {
+        out.push(Figure {
+            file: format!("response-{}-{}.svg", c + 1, file_stem(ch.name)),
+            section: "response",
+            caption: format!(
+                "{}: measured (solid) and model at the estimate (dashed); right, the window \
+                 of about 5 % of the record where the residuals are largest.",
+                ch.name
+            ),
+            svg: signals::fit_figure(input.time, ch, r.from),
+        });
+    }
+    out.push(Figure {
+        file: "residuals.svg".into(),
+        section: "residuals",
+        caption: "Residuals measured − model for each sensor, with their RMS and largest \
+                  magnitude over the fitted samples."
+            .into(),
+        svg: signals::residual_figure(input.time, &channels, r.from),
+    });
+    out.push(Figure {
+        file: "plan.svg".into(),
+        section: "plan",
+        caption: "Criterion J at each LP_τ plan point, sorted (\"waterfall\"); failed points \
+                  as crosses in the top strip, the local search's start point(s) ringed, the \
+                  final J dashed."
+            .into(),
+        svg: plan::plan_figure(&r.plan, r.criterion),
+    });
+    if !r.history.is_empty() {
+        out.push(Figure {
+            file: "history-cost.svg".into(),
+            section: "history",
+            caption: "Criterion J after each iteration of the local search that gave the \
+                      estimate."
+                .into(),
+            svg: history::cost_figure(&r.history, &r.method),
+        });
+        out.push(Figure {
+            file: "history-parameters.svg".into(),
+            section: "history",
+            caption: "Each parameter's trajectory over the iterations, normalised to its box."
+                .into(),
+            svg: history::trajectory_figure(&r.history, &r.parameters, input.reference),
+        });
+    }
+    if let Some(corr) = &r.correlation {
+        let names: Vec<String> = r.parameters.iter().map(|p| p.name.clone()).collect();
+        out.push(Figure {
+            file: "correlation.svg".into(),
+            section: "correlation",
+            caption: "Correlation of the estimates (from the Cramér–Rao bound): −1 blue, \
+                      0 white, +1 red; |ρ| ≥ 0.9 outlined."
+                .into(),
+            svg: correlation::correlation_figure(corr, &names),
+        });
+    }
+    out
+}
+
+/// The report as one HTML document.
+pub fn render_html(input: &ReportInput) -> Result<String, ReportError> {
+    check(input)?;
+    Ok(html::page(input, &figures(input)))
+}
+
+/// Writes `dir/report.html` and each figure as `dir/NAME.svg`, creating
+/// `dir` if needed; each file appears whole or not at all.
+pub fn write_report(dir: &Path, input: &ReportInput) -> Result<ReportFiles, ReportError> {
+    check(input)?;
+    std::fs::create_dir_all(dir).map_err(|source| ReportError::CreateDir {
+        path: dir.to_owned(),
+        source,
+    })?;
+    let figs = figures(input);
+    let write = |path: PathBuf, text: &str| -> Result<PathBuf, ReportError> {
+        crate::io::atomic::write_atomically(&path, |w| w.write_all(text.as_bytes())).map_err(
+            |source| ReportError::Write {
+                path: path.clone(),
+                source,
+            },
+        )?;
+        Ok(path)
+    };
+    let mut figures = Vec::with_capacity(figs.len());
+    for f in &figs {
+        let svg = format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{}", f.svg);
+        figures.push(write(dir.join(&f.file), &svg)?);
+    }
+    let html = write(dir.join("report.html"), &html::page(input, &figs))?;
+    Ok(ReportFiles { html, figures })
+}

@@ -1,0 +1,180 @@
+//! The LP_τ plan's criterion values sorted ("waterfall", eq. 18–19): how
+//! many plan points came close to the best, where the local search started,
+//! and which points failed to simulate.
+use super::axis::{legend, Frame, Key, Scale};
+use super::decimate::{min_max_points, path_data};
+use super::fmt::sig;
+use super::svg::{colour, dash, Anchor, Marker, Stroke, Svg, FONT_SIZE, HALO};
+use crate::identification::result::PlanSummary;
+
+/// Above this many points the sorted values are drawn as a line, not dots.
+const MAX_DOTS: usize = 400;
+/// Above this many failures they are drawn as one band, not crosses.
+const MAX_CROSSES: usize = 200;
+
+/// Light fill of the strip that holds the failed points.
+const FAILED_FILL: &str = "#fbe5d9";
+
+/// The waterfall: sorted finite J on a log axis (linear if some J ≤ 0),
+/// failed points as crosses in a strip at the top, the start point(s)
+/// ringed, and the final J as a dashed line.
+pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
+    let mut ok: Vec<(usize, f64)> = plan
+        .costs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| c.filter(|v| v.is_finite()).map(|v| (i, v)))
+        .collect();
+    ok.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let n_total = plan.costs.len().max(1);
+    let n_failed = plan.costs.len() - ok.len();
+    let title = format!(
+        "LP_τ plan: criterion J at {} points, sorted ({} failed)",
+        plan.costs.len(),
+        n_failed
+    );
+    let mut svg = Svg::new(860.0, 318.0, &title);
+    let values = ok.iter().map(|p| p.1).chain([final_cost]);
+    let all_positive = ok.iter().all(|p| p.1 > 0.0) && final_cost > 0.0;
+    let (ys, log) = match Scale::log(values.clone()) {
+        Some(s) if all_positive => (s, true),
+        _ => (Scale::linear_padded(values, 0.05), false),
+    };
+    let frame = Frame {
+        x: 72.0,
+        y: 70.0,
+        w: 740.0,
+        h: 200.0,
+        xs: Scale::linear(0.5, n_total as f64 + 0.5),
+        ys,
+    };
+    let strip = (frame.y - 28.0, 22.0);
+    legend(
+        &mut svg,
+        72.0,
+        16.0,
+        &[
+            ("J at a plan point", Key::Point(Marker::Dot, colour::BLUE)),
+            (
+                "failed to simulate",
+                Key::Point(Marker::Cross, colour::VERMILLION),
+            ),
+            (
+                "local search start",
+                Key::Point(Marker::Ring, colour::ORANGE),
+            ),
+            (
+                "J at the estimate",
+                Key::Line(Stroke::new(colour::GREEN, 1.5).dashed(dash::DASHED)),
+            ),
+        ],
+    );
+    let y_title = if log {
+        "criterion J (log)"
+    } else {
+        "criterion J"
+    };
+    frame.axes(&mut svg, "plan points, sorted by J (rank)", y_title);
+
+    // The failed strip above the frame.
+    svg.rect(
+        frame.x,
+        strip.0,
+        frame.w,
+        strip.1,
+        FAILED_FILL,
+        Some(Stroke::new(colour::INK, 0.6)),
+    );
+    svg.text(frame.x - 6.0, strip.0 + 15.0, "failed", Anchor::End);
+    let ymid = strip.0 + 0.5 * strip.1;
+    if n_failed == 0 {
+        svg.text(frame.x + 8.0, strip.0 + 15.0, "none failed", Anchor::Start);
+    } else if n_failed <= MAX_CROSSES {
+        for r in ok.len()..plan.costs.len() {
+            svg.marker(
+                Marker::Cross,
+                frame.px(r as f64 + 1.0),
+                ymid,
+                4.0,
+                colour::VERMILLION,
+            );
+        }
+    } else {
+        let (a, b) = (
+            frame.px(ok.len() as f64 + 0.5),
+            frame.px(plan.costs.len() as f64 + 0.5),
+        );
+        svg.rect(
+            a,
+            strip.0 + 3.0,
+            b - a,
+            strip.1 - 6.0,
+            colour::VERMILLION,
+            None,
+        );
+    }
+    if n_failed > 0 {
+        let label = format!("{n_failed} failed (J = +∞)");
+        let x = frame.px(ok.len() as f64 + 0.5) - 6.0;
+        svg.text(x.max(frame.x + 120.0), strip.0 + 15.0, &label, Anchor::End);
+    }
+
+    // Sorted criterion values.
+    let ranks: Vec<f64> = (1..=ok.len()).map(|r| r as f64).collect();
+    let costs: Vec<f64> = ok.iter().map(|p| p.1).collect();
+    if ok.len() <= MAX_DOTS {
+        for (r, c) in ranks.iter().zip(&costs) {
+            svg.marker(
+                Marker::Dot,
+                frame.px(*r),
+                frame.py_clamped(*c),
+                2.4,
+                colour::BLUE,
+            );
+        }
+    } else {
+        let pts = min_max_points(&ranks, &costs, &frame);
+        svg.path(&path_data(&pts), Stroke::new(colour::BLUE, 1.6));
+    }
+
+    // Final J.
+    if final_cost.is_finite() {
+        let y = frame.py_clamped(final_cost);
+        svg.line(
+            frame.x,
+            y,
+            frame.x + frame.w,
+            y,
+            Stroke::new(colour::GREEN, 1.5).dashed(dash::DASHED),
+        );
+        svg.text_styled(
+            frame.x + frame.w - 4.0,
+            y - 5.0,
+            &format!("estimate: J = {}", sig(final_cost, 4)),
+            Anchor::End,
+            FONT_SIZE,
+            colour::INK,
+            HALO,
+        );
+    }
+
+    // Start points, ringed at their rank.
+    for (k, s) in plan.starts.iter().enumerate() {
+        if let Some(rank) = ok.iter().position(|p| p.0 == *s) {
+            let (x, y) = (frame.px(rank as f64 + 1.0), frame.py_clamped(ok[rank].1));
+            svg.marker(Marker::Ring, x, y, 6.5, colour::ORANGE);
+            if k < 3 {
+                svg.text_styled(
+                    x + 9.0,
+                    y - 8.0 - 12.0 * k as f64,
+                    &format!("start: plan point {}", s + 1),
+                    Anchor::Start,
+                    FONT_SIZE,
+                    colour::INK,
+                    HALO,
+                );
+            }
+        }
+    }
+    svg.finish()
+}
