@@ -40,6 +40,11 @@ pub enum Command {
     /// The paper's example end to end: simulate the knee–column benchmark, then identify its 16 joint parameters.
     #[command(after_help = "Example:\n  rfeid demo\n  rfeid demo --noise 0.02 --seed 3 --timings")]
     Demo(DemoArgs),
+    /// Write the HTML report of an identification from its RESULT.json.
+    #[command(
+        after_help = "Example:\n  rfeid identify model.toml --data data.csv -o result.json\n  rfeid report result.json -o report/   # then open report/report.html"
+    )]
+    Report(ReportArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
@@ -72,6 +77,19 @@ pub struct SimulateArgs {
     /// Integrator steps per sample (overrides the model's `substeps`).
     #[arg(long)]
     pub substeps: Option<usize>,
+    /// Also plot the responses to this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// `rfeid report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// RESULT.json written by `rfeid identify` or `rfeid demo -o`.
+    pub result: PathBuf,
+    /// Directory for report.html and the figures (SVG).
+    #[arg(short, long)]
+    pub output: PathBuf,
 }
 
 /// `rfeid modal`.
@@ -145,6 +163,9 @@ pub struct IdentifyArgs {
     /// Result file (JSON).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Also write the HTML report (report.html and SVG figures) into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
     /// Search settings.
     #[command(flatten)]
     pub search: SearchArgs,
@@ -162,6 +183,9 @@ pub struct DemoArgs {
     /// Also write the result (JSON).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Also write the HTML report (report.html and SVG figures) into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
     /// Search settings.
     #[command(flatten)]
     pub search: SearchArgs,

@@ -22,6 +22,7 @@ fn main() -> ExitCode {
         cli::Command::Modal(a) => commands::modal::run(a, &ui),
         cli::Command::Identify(a) => commands::identify::run(a, &ui),
         cli::Command::Demo(a) => commands::demo::run(a, &ui),
+        cli::Command::Report(a) => commands::report::run(a, &ui),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

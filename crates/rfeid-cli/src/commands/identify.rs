@@ -23,10 +23,14 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let data = read_csv(&args.data).map_err(Failure::input_msg)?;
     let measured = match_data(&model, &data)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", args.data.display())))?;
-    let mut result = run_search(&model, measured, &args.search, ui)?;
+    let mut result = run_search(&model, measured.clone(), &args.search, ui)?;
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(args.data.display().to_string());
     write_result(&args.output, &result)?;
+    if let Some(dir) = &args.report {
+        let title = format!("{} with {}", args.model.display(), args.data.display());
+        super::report::write(ui, dir, &model, &result, &measured, None, &title)?;
+    }
     show_result(&model, &result, "nominal", args.search.timings, ui)?;
     ui.note(format!("result written to {}", args.output.display()));
     Ok(())

@@ -4,4 +4,5 @@ pub mod common;
 pub mod demo;
 pub mod identify;
 pub mod modal;
+pub mod report;
 pub mod simulate;

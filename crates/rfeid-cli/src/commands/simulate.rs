@@ -40,7 +40,14 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(f) = args.noise {
         add_noise(&mut out, f, args.seed);
     }
-    write_csv(&args.output, &to_timeseries(&model, &out)).map_err(Failure::input_msg)?;
+    let series = to_timeseries(&model, &out);
+    write_csv(&args.output, &series).map_err(Failure::input_msg)?;
+    if let Some(path) = &args.plot {
+        let svg = rfeid::report::response_svg(&model, &series.time, &out);
+        rfeid::io::atomic::write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
+            .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+        ui.note(format!("plot written to {}", path.display()));
+    }
     if ui.json {
         return ui.print_json(&serde_json::json!({
             "output": args.output,

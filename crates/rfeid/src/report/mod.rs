@@ -332,3 +332,21 @@ pub fn write_report(dir: &Path, input: &ReportInput) -> Result<ReportFiles, Repo
     let html = write(dir.join("report.html"), &html::page(input, &figs))?;
     Ok(ReportFiles { html, figures })
 }
+
+/// An SVG of simulated sensor signals, one panel per sensor (for
+/// `rfeid simulate --plot`). `response` must have the model's sensors.
+pub fn response_svg(model: &Model, time: &[f64], response: &Response) -> String {
+    let channels: Vec<(&str, String, &[f64])> = model
+        .sensors
+        .iter()
+        .enumerate()
+        .map(|(c, s)| {
+            (
+                s.name.as_str(),
+                signals::sensor_unit(s.kind),
+                response.sensor(c),
+            )
+        })
+        .collect();
+    signals::response_figure(time, &channels)
+}

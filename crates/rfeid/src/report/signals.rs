@@ -221,6 +221,39 @@ pub(crate) fn residual_figure(time: &[f64], channels: &[Channel], from: f64) -> 
     svg.finish()
 }
 
+/// Simulated responses, one panel per sensor, for `rfeid simulate --plot`:
+/// `(name, unit, signal)` per sensor, all on the time axis `time`.
+pub(crate) fn response_figure(time: &[f64], channels: &[(&str, String, &[f64])]) -> String {
+    let panel_h = 110.0;
+    let step = panel_h + 44.0;
+    let height = 20.0 + step * channels.len() as f64 + 6.0;
+    let mut svg = Svg::new(860.0, height, "Simulated response");
+    let (t0, t1) = finite_range(time.iter().copied());
+    for (c, (name, unit, y)) in channels.iter().enumerate() {
+        let frame = Frame {
+            x: 72.0,
+            y: 30.0 + step * c as f64,
+            w: 740.0,
+            h: panel_h,
+            xs: Scale::linear(t0, t1),
+            ys: Scale::symmetric(y.iter().copied(), 0.08),
+        };
+        frame.axes_with(&mut svg, "time t, s", unit, 8, 4);
+        trace(&mut svg, &frame, time, y, measured_stroke());
+        let rms = (y.iter().map(|v| v * v).sum::<f64>() / y.len().max(1) as f64).sqrt();
+        svg.text_styled(
+            frame.x,
+            frame.y - 6.0,
+            &format!("{name}   (RMS {} {unit})", sig(rms, 3)),
+            Anchor::Start,
+            12.0,
+            colour::INK,
+            "font-weight=\"bold\"",
+        );
+    }
+    svg.finish()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

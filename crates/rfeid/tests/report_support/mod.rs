@@ -105,6 +105,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
             total: 4.3,
         },
         threads: 2,
+        source: Default::default(),
     }
 }
 

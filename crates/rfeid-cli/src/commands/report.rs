@@ -1,0 +1,145 @@
+//! `rfeid report`, and the reports of `identify --report` and `demo --report`.
+use super::common::load;
+use super::demo::{demo_data, demo_model};
+use crate::cli::ReportArgs;
+use crate::diagnostics::Failure;
+use crate::ui::Ui;
+use rfeid::identification::result::IdentificationResult;
+use rfeid::io::timeseries::read_csv;
+use rfeid::measurement::match_data;
+use rfeid::model::Model;
+use rfeid::report::{write_report, ReportInput};
+use rfeid::simulation::{Response, Simulator, Workspace};
+use std::path::{Path, PathBuf};
+
+/// Runs the command: reloads the model and data that RESULT.json names,
+/// simulates the model at the estimate and writes the report.
+pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(&args.result)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", args.result.display())))?;
+    let result: IdentificationResult = serde_json::from_str(&text).map_err(|e| {
+        Failure::input_msg(format!(
+            "{}: not an rfeid result: {e}",
+            args.result.display()
+        ))
+    })?;
+    let base = args.result.parent().unwrap_or(Path::new(""));
+    let resolve = |p: &str| -> PathBuf {
+        let p = PathBuf::from(p);
+        if p.exists() || p.is_absolute() {
+            p
+        } else {
+            base.join(p)
+        }
+    };
+    let (model, measured, reference, title) = match (&result.source.model, &result.source.data) {
+        (_, Some(data)) => {
+            let model_path = result
+                .source
+                .model
+                .as_deref()
+                .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
+            let model = load(&resolve(model_path))?;
+            let ts = read_csv(&resolve(data)).map_err(Failure::input_msg)?;
+            let measured =
+                match_data(&model, &ts).map_err(|e| Failure::input_msg(format!("{data}: {e}")))?;
+            let title = format!("{} with {}", model_path, data);
+            (model, measured, None, title)
+        }
+        (Some(m), None) if m.starts_with("built-in") => {
+            let model = demo_model()?;
+            let measured = demo_data(
+                &model,
+                result.source.demo_noise,
+                result.source.demo_seed.unwrap_or(1),
+            )?;
+            let reference = reference_of(&model, &result);
+            (model, measured, Some(reference), demo_title(&result))
+        }
+        _ => {
+            return Err(Failure::input_msg(format!(
+                "{}: names no model and data to rebuild the report from",
+                args.result.display()
+            )))
+        }
+    };
+    write(
+        ui,
+        &args.output,
+        &model,
+        &result,
+        &measured,
+        reference.as_deref(),
+        &title,
+    )
+}
+
+/// The demo's title.
+pub fn demo_title(result: &IdentificationResult) -> String {
+    match (result.source.demo_noise, result.source.demo_seed) {
+        (Some(f), Some(seed)) => {
+            format!("Knee–column benchmark, {}% noise (seed {seed})", 100.0 * f)
+        }
+        _ => "Knee–column benchmark, noise-free data".into(),
+    }
+}
+
+/// The true values of the identified parameters (the model's nominal ones).
+pub fn reference_of(model: &Model, result: &IdentificationResult) -> Vec<f64> {
+    result
+        .parameters
+        .iter()
+        .map(|p| {
+            model
+                .parameter_index(&p.name)
+                .map(|i| model.parameters[i].value)
+                .unwrap_or(f64::NAN)
+        })
+        .collect()
+}
+
+/// Simulates at the estimate and writes the report into `dir`.
+pub fn write(
+    ui: &Ui,
+    dir: &Path,
+    model: &Model,
+    result: &IdentificationResult,
+    measured: &Response,
+    reference: Option<&[f64]>,
+    title: &str,
+) -> Result<(), Failure> {
+    let mut params = model.nominal();
+    for p in &result.parameters {
+        let i = model.parameter_index(&p.name).ok_or_else(|| {
+            Failure::input_msg(format!(
+                "the result's parameter '{}' is not in the model",
+                p.name
+            ))
+        })?;
+        params[i] = p.estimate;
+    }
+    let sim = Simulator::new(model);
+    let mut fitted = sim.response_buffer();
+    sim.run(&params, &mut Workspace::default(), &mut fitted)
+        .map_err(|e| Failure::failed(format!("simulating at the estimate failed: {e}")))?;
+    let time: Vec<f64> = (0..fitted.n_samples)
+        .map(|k| model.sampling.time(k))
+        .collect();
+    let input = ReportInput {
+        title: title.to_string(),
+        model,
+        result,
+        time: &time,
+        measured,
+        fitted: &fitted,
+        reference,
+    };
+    let files =
+        write_report(dir, &input).map_err(|e| Failure::input_msg(format!("report: {e}")))?;
+    ui.note(format!(
+        "report written to {} ({} figures)",
+        files.html.display(),
+        files.figures.len()
+    ));
+    Ok(())
+}
