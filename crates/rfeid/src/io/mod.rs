@@ -4,4 +4,5 @@ pub mod atomic;
 pub mod mat;
 pub mod model_file;
 pub mod timeseries;
+pub mod uff;
 pub mod units;

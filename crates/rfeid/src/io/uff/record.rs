@@ -1,0 +1,393 @@
+//! One dataset: a dataset-58 function record read in full, or any other
+//! dataset skipped.
+//!
+//! Dataset 58 ("function at nodal DOF"): after the `-1` and the dataset
+//! number line come 11 ASCII header lines — ID lines 1–5 (80A1; line 1 is
+//! the function's description, used here as its name), record 6 "DOF
+//! identification" (`2(I5,I10),2(1X,10A1,I10,I4)`: function type, function
+//! id, version, load case, response entity, node, direction, reference
+//! entity, node, direction), record 7 "data form" (`3I10,3E13.5`: ordinate
+//! data type 2/4/5/6 = real single/real double/complex single/complex
+//! double, number of points, spacing 1 even/0 uneven, abscissa minimum,
+//! increment, z value), records 8–11 "data characteristics" of abscissa,
+//! ordinate numerator, denominator and z axis (`I10,3I5,2(1X,20A1)`, field 1
+//! the specific data type: 17 time, 18 frequency, 8 displacement, 11
+//! velocity, 12 acceleration …) — then the data: ordinates only for even
+//! spacing, (abscissa, ordinate) pairs for uneven spacing, real and
+//! imaginary parts for complex data; in ASCII as `6E13.5` (single),
+//! `4E20.12` (double, even) or `2(E13.5,E20.12)` (double, uneven).
+use super::binary::{self, Layout};
+use super::error::Context;
+use super::fields::{data_line, fixed, int, real, tokens};
+use super::lines::{Cursor, Line};
+use super::{Abscissa, OrdinateType, UffError, UffRecord};
+use std::path::Path;
+
+/// What errors in one dataset need: the file and the dataset.
+#[derive(Debug, Clone, Copy)]
+pub struct Ctx<'p> {
+    /// The file.
+    pub path: &'p Path,
+    /// The dataset.
+    pub context: Context,
+}
+
+impl Ctx<'_> {
+    /// A format error at a line.
+    pub fn malformed(&self, line: &Line<'_>, message: String) -> UffError {
+        UffError::Malformed {
+            path: self.path.into(),
+            context: self.context,
+            line: line.number,
+            offset: line.offset,
+            message,
+        }
+    }
+
+    /// A truncation error at byte `offset` of the file `bytes` (the line
+    /// is counted).
+    pub fn truncated(&self, bytes: &[u8], offset: usize, message: String) -> UffError {
+        let end = offset.min(bytes.len());
+        let line = 1 + bytes[..end].iter().filter(|&&b| b == b'\n').count();
+        self.truncated_at(line, offset, message)
+    }
+
+    /// A truncation error at a line.
+    pub fn truncated_at(&self, line: usize, offset: usize, message: String) -> UffError {
+        UffError::Truncated {
+            path: self.path.into(),
+            context: self.context,
+            line,
+            offset,
+            message,
+        }
+    }
+}
+
+/// Reads the rest of a dataset-58 record whose number line is `head`.
+pub fn parse_58(
+    cur: &mut Cursor<'_>,
+    head: &Line<'_>,
+    is_binary: bool,
+    ctx: &Ctx<'_>,
+) -> Result<UffRecord, UffError> {
+    let bin = if is_binary {
+        let b = binary::header(head, ctx)?;
+        if b.n_ascii != 11 {
+            return Err(ctx.malformed(
+                head,
+                format!(
+                    "a 58b header announces {} ASCII lines; dataset 58 has 11",
+                    b.n_ascii
+                ),
+            ));
+        }
+        if b.fp_format != 2 {
+            return Err(UffError::Unsupported {
+                path: ctx.path.into(),
+                context: ctx.context,
+                line: head.number,
+                message: format!(
+                    "floating-point format {} (only 2, IEEE 754, is read)",
+                    b.fp_format
+                ),
+            });
+        }
+        Some(b)
+    } else {
+        None
+    };
+    let mut h: Vec<Line<'_>> = Vec::with_capacity(11);
+    while h.len() < 11 {
+        match cur.next_line() {
+            Some(l) if !l.is_delimiter() => h.push(l),
+            other => {
+                let (line, offset) =
+                    other.map_or((cur.line(), cur.pos()), |l| (l.number, l.offset));
+                return Err(ctx.truncated_at(
+                    line,
+                    offset,
+                    format!("the header ends after {} of its 11 lines", h.len()),
+                ));
+            }
+        }
+    }
+    let id_lines: [String; 5] = std::array::from_fn(|i| h[i].trimmed());
+    let dof = dof_identification(&h[5], ctx)?;
+    let form = data_form(&h[6], ctx)?;
+    let spec = |l: &Line<'_>| int(&fixed(l.text, &[10])[0]).unwrap_or(0);
+    let per_point = if form.ordinate.is_complex() { 2 } else { 1 };
+    let stride = usize::from(!form.even) + per_point;
+    let values = match bin {
+        None => {
+            let widths: &[usize] = match (form.ordinate, form.even) {
+                (OrdinateType::RealSingle | OrdinateType::ComplexSingle, _) => &[13],
+                (_, true) => &[20],
+                (OrdinateType::RealDouble, false) => &[13, 20],
+                (OrdinateType::ComplexDouble, false) => &[13, 20, 20],
+            };
+            let needed = form
+                .n
+                .checked_mul(stride)
+                .ok_or_else(|| ctx.malformed(&h[6], format!("{} points is too many", form.n)))?;
+            ascii_values(cur, needed, widths, ctx)?
+        }
+        Some(b) => {
+            let size = match form.ordinate {
+                OrdinateType::RealSingle | OrdinateType::ComplexSingle => 4,
+                _ => 8,
+            };
+            let base = Layout {
+                n: form.n,
+                size,
+                per_point,
+                x_size: 0,
+            };
+            let start = cur.pos();
+            let (layout, end) =
+                binary::locate(cur.bytes(), start, b.n_bytes, base, !form.even, ctx, &h[10])?;
+            let v = binary::decode(cur.bytes(), start, layout, b.little);
+            cur.jump(end);
+            v
+        }
+    };
+    let (abscissa, ordinates) = split(&values, &form, stride);
+    Ok(UffRecord {
+        number: ctx.context.record.unwrap_or(0),
+        line: ctx.context.start_line,
+        binary: is_binary,
+        id_lines,
+        function_type: dof[0],
+        response_node: dof[1],
+        response_direction: dof[2],
+        reference_node: dof[3],
+        reference_direction: dof[4],
+        ordinate_type: form.ordinate,
+        num_points: form.n,
+        abscissa_data_type: spec(&h[7]),
+        ordinate_data_type: spec(&h[8]),
+        abscissa,
+        values: ordinates,
+    })
+}
+
+/// Splits the values in file order into the abscissa and the real
+/// ordinates (none for complex data).
+fn split(values: &[f64], form: &DataForm, stride: usize) -> (Abscissa, Vec<f64>) {
+    let abscissa = if form.even {
+        Abscissa::Even {
+            min: form.min,
+            increment: form.increment,
+            count: form.n,
+        }
+    } else {
+        Abscissa::Uneven(values.iter().step_by(stride).copied().collect())
+    };
+    let first = usize::from(!form.even);
+    let ordinates = if form.ordinate.is_complex() {
+        Vec::new()
+    } else {
+        values.iter().skip(first).step_by(stride).copied().collect()
+    };
+    (abscissa, ordinates)
+}
+
+/// Record 6: function type, response node and direction, reference node
+/// and direction.
+fn dof_identification(l: &Line<'_>, ctx: &Ctx<'_>) -> Result<[i64; 5], UffError> {
+    let f = fixed(l.text, &[5, 10, 5, 10, 11, 10, 4, 11, 10, 4]);
+    let pick = |v: &[String], idx: [usize; 5]| -> Option<[i64; 5]> {
+        let mut out = [0; 5];
+        for (o, i) in out.iter_mut().zip(idx) {
+            let s = v.get(i)?;
+            *o = if s.is_empty() { 0 } else { int(s)? };
+        }
+        Some(out)
+    };
+    pick(&f, [0, 5, 6, 8, 9])
+        .filter(|_| !f[0].is_empty())
+        .or_else(|| {
+            let t = tokens(l.text);
+            (t.len() == 10).then(|| pick(&t, [0, 5, 6, 8, 9])).flatten()
+        })
+        .ok_or_else(|| {
+            ctx.malformed(
+                l,
+                format!(
+                    "record 6 (DOF identification) needs integer function type, nodes and \
+                     directions, found '{}'",
+                    l.excerpt()
+                ),
+            )
+        })
+}
+
+/// Record 7.
+#[derive(Debug, Clone, Copy)]
+struct DataForm {
+    ordinate: OrdinateType,
+    n: usize,
+    even: bool,
+    min: f64,
+    increment: f64,
+}
+
+/// Record 7: ordinate type, points, spacing, abscissa minimum and increment.
+fn data_form(l: &Line<'_>, ctx: &Ctx<'_>) -> Result<DataForm, UffError> {
+    let parse = |f: &[String]| -> Option<(i64, i64, i64, f64, f64)> {
+        let or0 = |s: &String| if s.is_empty() { Some(0.0) } else { real(s) };
+        Some((
+            int(f.first()?)?,
+            int(f.get(1)?)?,
+            int(f.get(2)?)?,
+            or0(f.get(3)?)?,
+            or0(f.get(4)?)?,
+        ))
+    };
+    let f = fixed(l.text, &[10, 10, 10, 13, 13, 13]);
+    let t = tokens(l.text);
+    let (code, n, spacing, min, increment) = parse(&f)
+        .or_else(|| (t.len() >= 5).then(|| parse(&t)).flatten())
+        .ok_or_else(|| {
+            ctx.malformed(
+                l,
+                format!(
+                    "record 7 (data form) needs ordinate type, points, spacing, abscissa \
+                     minimum and increment, found '{}'",
+                    l.excerpt()
+                ),
+            )
+        })?;
+    let ordinate = OrdinateType::from_code(code).ok_or_else(|| {
+        ctx.malformed(
+            l,
+            format!("ordinate data type {code} (2, 4, 5 or 6 expected)"),
+        )
+    })?;
+    let n = usize::try_from(n)
+        .map_err(|_| ctx.malformed(l, format!("negative number of points {n}")))?;
+    let even = match spacing {
+        0 => false,
+        1 => true,
+        _ => {
+            return Err(ctx.malformed(
+                l,
+                format!("abscissa spacing {spacing} (0 uneven or 1 even expected)"),
+            ))
+        }
+    };
+    Ok(DataForm {
+        ordinate,
+        n,
+        even,
+        min,
+        increment,
+    })
+}
+
+/// Reads `needed` ASCII numbers, then the closing `-1`.
+fn ascii_values(
+    cur: &mut Cursor<'_>,
+    needed: usize,
+    widths: &[usize],
+    ctx: &Ctx<'_>,
+) -> Result<Vec<f64>, UffError> {
+    let left = cur.bytes().len().saturating_sub(cur.pos());
+    let mut values = Vec::with_capacity(needed.min(left / 2));
+    while values.len() < needed {
+        let Some(l) = cur.next_line() else {
+            return Err(ctx.truncated_at(
+                cur.line(),
+                cur.pos(),
+                format!("the file ends after {} of {needed} values", values.len()),
+            ));
+        };
+        if l.is_delimiter() {
+            return Err(ctx.truncated_at(
+                l.number,
+                l.offset,
+                format!("the record ends after {} of {needed} values", values.len()),
+            ));
+        }
+        let v = data_line(l.text, widths)
+            .map_err(|bad| ctx.malformed(&l, format!("'{bad}' is not a number")))?;
+        if values.len() + v.len() > needed {
+            return Err(ctx.malformed(
+                &l,
+                format!("more values than the {needed} the header announces"),
+            ));
+        }
+        values.extend(v);
+    }
+    match cur.next_nonblank() {
+        Some(l) if l.is_delimiter() => Ok(values),
+        Some(l) => Err(ctx.malformed(
+            &l,
+            format!(
+                "expected the closing '    -1' after {needed} values, found '{}'",
+                l.excerpt()
+            ),
+        )),
+        None => Err(ctx.truncated_at(
+            cur.line(),
+            cur.pos(),
+            "the file ends before the closing '    -1'".into(),
+        )),
+    }
+}
+
+/// Skips a dataset other than 58, ASCII or binary.
+pub fn skip(
+    cur: &mut Cursor<'_>,
+    head: &Line<'_>,
+    is_binary: bool,
+    ctx: &Ctx<'_>,
+) -> Result<(), UffError> {
+    if is_binary {
+        let b = binary::header(head, ctx)?;
+        for _ in 0..b.n_ascii {
+            if cur.next_line().is_none() {
+                return Err(ctx.truncated_at(
+                    cur.line(),
+                    cur.pos(),
+                    "the file ends in the ASCII header".into(),
+                ));
+            }
+        }
+        let start = cur.pos();
+        let end = start
+            .checked_add(b.n_bytes)
+            .and_then(|p| binary::delimiter_after(cur.bytes(), p));
+        return match end {
+            Some(end) => {
+                cur.jump(end);
+                Ok(())
+            }
+            None if start.saturating_add(b.n_bytes) > cur.bytes().len() => Err(ctx.truncated(
+                cur.bytes(),
+                cur.bytes().len(),
+                format!("the binary data need {} bytes from byte {start}", b.n_bytes),
+            )),
+            None => Err(ctx.malformed(
+                head,
+                format!(
+                    "no closing '    -1' after the {} bytes of binary data",
+                    b.n_bytes
+                ),
+            )),
+        };
+    }
+    loop {
+        match cur.next_line() {
+            Some(l) if l.is_delimiter() => return Ok(()),
+            Some(_) => {}
+            None => {
+                return Err(ctx.truncated_at(
+                    cur.line(),
+                    cur.pos(),
+                    "the file ends before the dataset's closing '    -1'".into(),
+                ))
+            }
+        }
+    }
+}
