@@ -220,6 +220,8 @@ fn inflate(file: &Buf<'_>, data: &[u8], at: usize) -> Result<Vec<u8>, MatError> 
         compressed_at: Some(at as u64),
         ..*file
     };
+    // `read_to_end` keeps what it read before an error, so `out.len()` is
+    // what the stream gave.
     let fail = |e: std::io::Error, got: usize, what: &str, needed: usize| {
         if e.kind() == std::io::ErrorKind::UnexpectedEof {
             inner.truncated(0, what, needed, got)
@@ -229,12 +231,12 @@ fn inflate(file: &Buf<'_>, data: &[u8], at: usize) -> Result<Vec<u8>, MatError> 
     };
     let mut z = flate2::read::ZlibDecoder::new(data);
     let mut out = Vec::new();
-    (&mut z)
-        .take(8)
-        .read_to_end(&mut out)
-        .map_err(|e| fail(e, 0, "compressed element (its tag)", 8))?;
+    let tag_what = "compressed element (its tag)";
+    if let Err(e) = (&mut z).take(8).read_to_end(&mut out) {
+        return Err(fail(e, out.len(), tag_what, 8));
+    }
     if out.len() < 8 {
-        return Err(inner.truncated(0, "compressed element (its tag)", 8, out.len()));
+        return Err(inner.truncated(0, tag_what, 8, out.len()));
     }
     let first = file.endian.u32([out[0], out[1], out[2], out[3]]);
     let size = if first >> 16 != 0 {
@@ -243,10 +245,9 @@ fn inflate(file: &Buf<'_>, data: &[u8], at: usize) -> Result<Vec<u8>, MatError> 
         file.endian.u32([out[4], out[5], out[6], out[7]]) as usize
     };
     let what = "compressed element";
-    (&mut z)
-        .take(size as u64)
-        .read_to_end(&mut out)
-        .map_err(|e| fail(e, 8, what, size + 8))?;
+    if let Err(e) = (&mut z).take(size as u64).read_to_end(&mut out) {
+        return Err(fail(e, out.len(), what, size + 8));
+    }
     if out.len() < size + 8 {
         return Err(inner.truncated(0, what, size + 8, out.len()));
     }

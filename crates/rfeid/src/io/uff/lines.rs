@@ -11,6 +11,8 @@ pub struct Line<'a> {
     pub offset: usize,
     /// Its bytes.
     pub text: &'a [u8],
+    /// Whether a line ending follows (false for a last line cut short).
+    pub complete: bool,
 }
 
 impl Line<'_> {
@@ -73,9 +75,9 @@ impl<'a> Cursor<'a> {
             return None;
         }
         let rest = &self.bytes[self.pos..];
-        let (len, advance) = match rest.iter().position(|&b| b == b'\n') {
-            Some(i) => (i, i + 1),
-            None => (rest.len(), rest.len()),
+        let (len, advance, complete) = match rest.iter().position(|&b| b == b'\n') {
+            Some(i) => (i, i + 1, true),
+            None => (rest.len(), rest.len(), false),
         };
         let mut text = &rest[..len];
         if let Some(t) = text.strip_suffix(b"\r") {
@@ -85,6 +87,7 @@ impl<'a> Cursor<'a> {
             number: self.line,
             offset: self.pos,
             text,
+            complete,
         };
         self.pos += advance;
         self.line += 1;

@@ -338,6 +338,14 @@ pub fn parse_uff58(bytes: &[u8], path: &Path) -> Result<UffFile, UffError> {
                 message: "the file ends after a dataset's opening '-1'".into(),
             });
         };
+        if !head.complete && head.text.trim_ascii().is_empty() {
+            return Err(UffError::Structure {
+                path: path.into(),
+                line: start.number,
+                offset: start.offset,
+                message: "the file ends after a dataset's opening '-1'".into(),
+            });
+        }
         let id = fields::fixed(head.text, &[6, 1]);
         let number = fields::int(&id[0]).ok_or_else(|| UffError::Structure {
             path: path.into(),

@@ -309,8 +309,20 @@ fn ascii_values(
                 format!("the record ends after {} of {needed} values", values.len()),
             ));
         }
-        let v = data_line(l.text, widths)
-            .map_err(|bad| ctx.malformed(&l, format!("'{bad}' is not a number")))?;
+        let v = data_line(l.text, widths).map_err(|bad| {
+            if l.complete {
+                ctx.malformed(&l, format!("'{bad}' is not a number"))
+            } else {
+                ctx.truncated_at(
+                    l.number,
+                    l.offset + l.text.len(),
+                    format!(
+                        "the file ends inside a number after {} of {needed} values",
+                        values.len()
+                    ),
+                )
+            }
+        })?;
         if values.len() + v.len() > needed {
             return Err(ctx.malformed(
                 &l,
