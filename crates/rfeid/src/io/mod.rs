@@ -1,6 +1,7 @@
 //! Reading and writing files: model files, units, time series, and measured
 //! data as CSV, MATLAB MAT-files or Universal File Format dataset 58.
 pub mod atomic;
+pub mod data_file;
 pub mod mat;
 pub mod model_file;
 pub mod timeseries;
