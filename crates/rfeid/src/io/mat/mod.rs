@@ -4,7 +4,7 @@
 //! The format (MathWorks, "MAT-File Format", Level 5): a 128-byte header —
 //! 116 bytes of text, 8 bytes of subsystem-data offset, a `u16` version
 //! (0x0100) and the endian indicator `IM` (little-endian file) or `MI`
-//! (big-endian) — then data elements (see [`element`] for the tags). Each
+//! (big-endian) — then data elements (tags: `mat/element.rs`). Each
 //! variable is one `miMATRIX` element, or one `miCOMPRESSED` element whose
 //! zlib stream inflates to an `miMATRIX` element (`-v7`, scipy's
 //! `do_compression=True`); compressed elements are not padded.
@@ -18,7 +18,7 @@
 //! Malformed input gives an error with the byte offset, never a panic;
 //! memory grows only with the data actually present.
 mod array;
-pub mod element;
+mod element;
 mod error;
 
 pub use array::{MatClass, MatVariable};

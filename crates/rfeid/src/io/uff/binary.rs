@@ -12,8 +12,8 @@
 //! that closing line rather than trusted: for uneven abscissa the abscissa
 //! may be stored in the ordinate's precision or in single precision, and
 //! some writers (pyuff 2.5) announce the size of the ordinates alone.
+use super::error::Ctx;
 use super::lines::Line;
-use super::record::Ctx;
 use super::UffError;
 
 /// The numbers of a binary header line that matter here.

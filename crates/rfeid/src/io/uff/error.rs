@@ -1,7 +1,8 @@
 //! Errors of reading a universal file: each names the file, the dataset or
 //! function record, and the line and byte offset.
+use super::lines::Line;
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The dataset an error is in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -129,4 +130,45 @@ pub enum UffError {
         /// The ordinate data type, e.g. `complex double (6)`.
         ordinate: String,
     },
+}
+
+/// What errors in one dataset need: the file and the dataset.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Ctx<'p> {
+    /// The file.
+    pub path: &'p Path,
+    /// The dataset.
+    pub context: Context,
+}
+
+impl Ctx<'_> {
+    /// A format error at a line.
+    pub fn malformed(&self, line: &Line<'_>, message: String) -> UffError {
+        UffError::Malformed {
+            path: self.path.into(),
+            context: self.context,
+            line: line.number,
+            offset: line.offset,
+            message,
+        }
+    }
+
+    /// A truncation error at byte `offset` of the file `bytes` (the line
+    /// is counted).
+    pub fn truncated(&self, bytes: &[u8], offset: usize, message: String) -> UffError {
+        let end = offset.min(bytes.len());
+        let line = 1 + bytes[..end].iter().filter(|&&b| b == b'\n').count();
+        self.truncated_at(line, offset, message)
+    }
+
+    /// A truncation error at a line.
+    pub fn truncated_at(&self, line: usize, offset: usize, message: String) -> UffError {
+        UffError::Truncated {
+            path: self.path.into(),
+            context: self.context,
+            line,
+            offset,
+            message,
+        }
+    }
 }

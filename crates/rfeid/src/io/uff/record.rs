@@ -1,5 +1,4 @@
-//! One dataset: a dataset-58 function record read in full, or any other
-//! dataset skipped.
+//! One dataset-58 function record, read in full.
 //!
 //! Dataset 58 ("function at nodal DOF"): after the `-1` and the dataset
 //! number line come 11 ASCII header lines — ID lines 1–5 (80A1; line 1 is
@@ -17,52 +16,11 @@
 //! imaginary parts for complex data; in ASCII as `6E13.5` (single),
 //! `4E20.12` (double, even) or `2(E13.5,E20.12)` (double, uneven).
 use super::binary::{self, Layout};
-use super::error::Context;
-use super::fields::{data_line, fixed, int, real, tokens};
+use super::error::Ctx;
+use super::fields::{data_line, fixed, int};
+use super::header::{data_form, dof_identification, DataForm};
 use super::lines::{Cursor, Line};
 use super::{Abscissa, OrdinateType, UffError, UffRecord};
-use std::path::Path;
-
-/// What errors in one dataset need: the file and the dataset.
-#[derive(Debug, Clone, Copy)]
-pub struct Ctx<'p> {
-    /// The file.
-    pub path: &'p Path,
-    /// The dataset.
-    pub context: Context,
-}
-
-impl Ctx<'_> {
-    /// A format error at a line.
-    pub fn malformed(&self, line: &Line<'_>, message: String) -> UffError {
-        UffError::Malformed {
-            path: self.path.into(),
-            context: self.context,
-            line: line.number,
-            offset: line.offset,
-            message,
-        }
-    }
-
-    /// A truncation error at byte `offset` of the file `bytes` (the line
-    /// is counted).
-    pub fn truncated(&self, bytes: &[u8], offset: usize, message: String) -> UffError {
-        let end = offset.min(bytes.len());
-        let line = 1 + bytes[..end].iter().filter(|&&b| b == b'\n').count();
-        self.truncated_at(line, offset, message)
-    }
-
-    /// A truncation error at a line.
-    pub fn truncated_at(&self, line: usize, offset: usize, message: String) -> UffError {
-        UffError::Truncated {
-            path: self.path.into(),
-            context: self.context,
-            line,
-            offset,
-            message,
-        }
-    }
-}
 
 /// Reads the rest of a dataset-58 record whose number line is `head`.
 pub fn parse_58(
@@ -192,99 +150,6 @@ fn split(values: &[f64], form: &DataForm, stride: usize) -> (Abscissa, Vec<f64>)
     (abscissa, ordinates)
 }
 
-/// Record 6: function type, response node and direction, reference node
-/// and direction.
-fn dof_identification(l: &Line<'_>, ctx: &Ctx<'_>) -> Result<[i64; 5], UffError> {
-    let f = fixed(l.text, &[5, 10, 5, 10, 11, 10, 4, 11, 10, 4]);
-    let pick = |v: &[String], idx: [usize; 5]| -> Option<[i64; 5]> {
-        let mut out = [0; 5];
-        for (o, i) in out.iter_mut().zip(idx) {
-            let s = v.get(i)?;
-            *o = if s.is_empty() { 0 } else { int(s)? };
-        }
-        Some(out)
-    };
-    pick(&f, [0, 5, 6, 8, 9])
-        .filter(|_| !f[0].is_empty())
-        .or_else(|| {
-            let t = tokens(l.text);
-            (t.len() == 10).then(|| pick(&t, [0, 5, 6, 8, 9])).flatten()
-        })
-        .ok_or_else(|| {
-            ctx.malformed(
-                l,
-                format!(
-                    "record 6 (DOF identification) needs integer function type, nodes and \
-                     directions, found '{}'",
-                    l.excerpt()
-                ),
-            )
-        })
-}
-
-/// Record 7.
-#[derive(Debug, Clone, Copy)]
-struct DataForm {
-    ordinate: OrdinateType,
-    n: usize,
-    even: bool,
-    min: f64,
-    increment: f64,
-}
-
-/// Record 7: ordinate type, points, spacing, abscissa minimum and increment.
-fn data_form(l: &Line<'_>, ctx: &Ctx<'_>) -> Result<DataForm, UffError> {
-    let parse = |f: &[String]| -> Option<(i64, i64, i64, f64, f64)> {
-        let or0 = |s: &String| if s.is_empty() { Some(0.0) } else { real(s) };
-        Some((
-            int(f.first()?)?,
-            int(f.get(1)?)?,
-            int(f.get(2)?)?,
-            or0(f.get(3)?)?,
-            or0(f.get(4)?)?,
-        ))
-    };
-    let f = fixed(l.text, &[10, 10, 10, 13, 13, 13]);
-    let t = tokens(l.text);
-    let (code, n, spacing, min, increment) = parse(&f)
-        .or_else(|| (t.len() >= 5).then(|| parse(&t)).flatten())
-        .ok_or_else(|| {
-            ctx.malformed(
-                l,
-                format!(
-                    "record 7 (data form) needs ordinate type, points, spacing, abscissa \
-                     minimum and increment, found '{}'",
-                    l.excerpt()
-                ),
-            )
-        })?;
-    let ordinate = OrdinateType::from_code(code).ok_or_else(|| {
-        ctx.malformed(
-            l,
-            format!("ordinate data type {code} (2, 4, 5 or 6 expected)"),
-        )
-    })?;
-    let n = usize::try_from(n)
-        .map_err(|_| ctx.malformed(l, format!("negative number of points {n}")))?;
-    let even = match spacing {
-        0 => false,
-        1 => true,
-        _ => {
-            return Err(ctx.malformed(
-                l,
-                format!("abscissa spacing {spacing} (0 uneven or 1 even expected)"),
-            ))
-        }
-    };
-    Ok(DataForm {
-        ordinate,
-        n,
-        even,
-        min,
-        increment,
-    })
-}
-
 /// Reads `needed` ASCII numbers, then the closing `-1`.
 fn ascii_values(
     cur: &mut Cursor<'_>,
@@ -345,61 +210,5 @@ fn ascii_values(
             cur.pos(),
             "the file ends before the closing '    -1'".into(),
         )),
-    }
-}
-
-/// Skips a dataset other than 58, ASCII or binary.
-pub fn skip(
-    cur: &mut Cursor<'_>,
-    head: &Line<'_>,
-    is_binary: bool,
-    ctx: &Ctx<'_>,
-) -> Result<(), UffError> {
-    if is_binary {
-        let b = binary::header(head, ctx)?;
-        for _ in 0..b.n_ascii {
-            if cur.next_line().is_none() {
-                return Err(ctx.truncated_at(
-                    cur.line(),
-                    cur.pos(),
-                    "the file ends in the ASCII header".into(),
-                ));
-            }
-        }
-        let start = cur.pos();
-        let end = start
-            .checked_add(b.n_bytes)
-            .and_then(|p| binary::delimiter_after(cur.bytes(), p));
-        return match end {
-            Some(end) => {
-                cur.jump(end);
-                Ok(())
-            }
-            None if start.saturating_add(b.n_bytes) > cur.bytes().len() => Err(ctx.truncated(
-                cur.bytes(),
-                cur.bytes().len(),
-                format!("the binary data need {} bytes from byte {start}", b.n_bytes),
-            )),
-            None => Err(ctx.malformed(
-                head,
-                format!(
-                    "no closing '    -1' after the {} bytes of binary data",
-                    b.n_bytes
-                ),
-            )),
-        };
-    }
-    loop {
-        match cur.next_line() {
-            Some(l) if l.is_delimiter() => return Ok(()),
-            Some(_) => {}
-            None => {
-                return Err(ctx.truncated_at(
-                    cur.line(),
-                    cur.pos(),
-                    "the file ends before the dataset's closing '    -1'".into(),
-                ))
-            }
-        }
     }
 }
