@@ -444,8 +444,20 @@ fn sources_deserialize_from_the_model_file_syntax() {
     let e = read("data = { record = 0 }").unwrap_err().to_string();
     assert!(e.contains("records are numbered from 1"), "{e}");
     let e = read(r#"data = { colum = "x" }"#).unwrap_err().to_string();
-    assert!(e.contains("unknown variant `colum`"), "{e}");
-    assert!(read(r#"data = { column = "a", variable = "b" }"#).is_err());
+    assert!(
+        e.contains("unknown field `colum`, expected one of `column`, `variable`, `record`"),
+        "{e}"
+    );
+    let e = read(r#"data = { column = "a", variable = "b" }"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not both 'column' and 'variable'"), "{e}");
+    let e = read("data = {}").unwrap_err().to_string();
+    assert!(e.contains("give column, variable or record"), "{e}");
+    let e = read(r#"data = "acc_x""#).unwrap_err().to_string();
+    assert!(e.contains("expected a table with one key"), "{e}");
+    let e = read("data = { column = 3 }").unwrap_err().to_string();
+    assert!(e.contains("expected a string"), "{e}");
     assert!(DataSource::Column(" ".into()).check().is_err());
     assert!(DataSource::Record(RecordRef::Index(0)).check().is_err());
     assert!(DataSource::Record(RecordRef::Index(2)).check().is_ok());

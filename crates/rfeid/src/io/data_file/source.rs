@@ -1,7 +1,7 @@
 //! Where each sensor's measured signal lives in a data file.
 use crate::io::uff::RecordRef;
 use crate::model::Model;
-use serde::Deserialize;
+use serde::de::{self, Deserializer, MapAccess, Visitor};
 use std::fmt;
 
 /// Where a sensor's signal lives: written in the model file as
@@ -12,8 +12,7 @@ use std::fmt;
 /// universal-file record's ID line 1 — so one model file reads the same
 /// data exported as CSV, `.mat` or UFF; the three words only say what the
 /// writer had in mind. A record *number* needs a universal file.
-#[derive(Debug, Clone, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum DataSource {
     /// A named column (CSV), or any named signal.
     Column(String),
@@ -68,6 +67,49 @@ impl fmt::Display for DataSource {
             DataSource::Variable(n) => write!(f, "variable '{n}'"),
             DataSource::Record(r) => write!(f, "record {r}"),
         }
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for DataSource {
+    /// From a table with exactly one of the keys `column`, `variable`,
+    /// `record`.
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = DataSource;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(
+                    "a table with one key: { column = \"name\" }, { variable = \"name\" } \
+                     or { record = 3 } / { record = \"name\" }",
+                )
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<DataSource, A::Error> {
+                let mut found: Option<(String, DataSource)> = None;
+                while let Some(key) = map.next_key::<String>()? {
+                    let value = match key.as_str() {
+                        "column" => DataSource::Column(map.next_value()?),
+                        "variable" => DataSource::Variable(map.next_value()?),
+                        "record" => DataSource::Record(map.next_value()?),
+                        other => {
+                            return Err(de::Error::unknown_field(
+                                other,
+                                &["column", "variable", "record"],
+                            ))
+                        }
+                    };
+                    if let Some((first, _)) = &found {
+                        return Err(de::Error::custom(format!(
+                            "give one of column, variable or record, not both '{first}' and '{key}'"
+                        )));
+                    }
+                    found = Some((key, value));
+                }
+                found.map(|(_, v)| v).ok_or_else(|| {
+                    de::Error::custom("an empty table: give column, variable or record")
+                })
+            }
+        }
+        d.deserialize_map(V)
     }
 }
 
