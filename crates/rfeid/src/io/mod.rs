@@ -1,5 +1,9 @@
-//! Reading and writing files: model files, units, time series.
+//! Reading and writing files: model files, units, time series, and measured
+//! data as CSV, MATLAB MAT-files or Universal File Format dataset 58.
 pub mod atomic;
+pub mod data_file;
+pub mod mat;
 pub mod model_file;
 pub mod timeseries;
+pub mod uff;
 pub mod units;

@@ -1,0 +1,199 @@
+//! The signals of each format, before the shared checks: a time axis and
+//! one vector per sensor, each with a description of where it came from.
+use super::{DataFileError, DataSource};
+use crate::io::mat::read_mat_vectors;
+use crate::io::timeseries::read_csv;
+use crate::io::uff::{read_uff58, Abscissa, RecordRef, UffRecord};
+use crate::model::Model;
+use std::path::Path;
+
+/// Signals read from a file, not yet checked.
+#[derive(Debug)]
+pub struct Raw {
+    /// Sample instants.
+    pub time: Vec<f64>,
+    /// Where the time axis comes from, for messages.
+    pub axis: String,
+    /// One vector per sensor, in the model's order.
+    pub columns: Vec<Vec<f64>>,
+    /// Where each came from, for messages.
+    pub origins: Vec<String>,
+}
+
+/// CSV: the `time` column and the sensors' columns; every other column
+/// must be read by some sensor (as before sources existed).
+pub fn csv(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
+    let ts = read_csv(path)?;
+    let wanted: Vec<&str> = sources.iter().filter_map(DataSource::name).collect();
+    if let Some(extra) = ts.names.iter().find(|c| !wanted.contains(&c.as_str())) {
+        let sensors: Vec<&str> = model.sensors.iter().map(|s| s.name.as_str()).collect();
+        return Err(DataFileError::ExtraColumn {
+            path: path.into(),
+            column: extra.clone(),
+            sensors: sensors.join(", "),
+        });
+    }
+    let mut raw = Raw {
+        time: ts.time.clone(),
+        axis: "column 'time'".into(),
+        columns: Vec::new(),
+        origins: Vec::new(),
+    };
+    for (sensor, source) in model.sensors.iter().zip(sources) {
+        let name = by_name(path, &sensor.name, source)?;
+        let col = ts
+            .column(name)
+            .ok_or_else(|| DataFileError::MissingColumn {
+                path: path.into(),
+                sensor: sensor.name.clone(),
+                column: name.to_string(),
+                columns: ts.names.join(", "),
+            })?;
+        raw.columns.push(col.to_vec());
+        raw.origins.push(format!("column '{name}'"));
+    }
+    Ok(raw)
+}
+
+/// MAT-file: the sensors' vectors; time from `time` or `t`, else
+/// t_k = k / rate from `sample_rate` or `fs`.
+pub fn mat(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
+    let file = read_mat_vectors(path)?;
+    let mut columns = Vec::new();
+    let mut origins = Vec::new();
+    for (sensor, source) in model.sensors.iter().zip(sources) {
+        let name = by_name(path, &sensor.name, source)?;
+        let v = file
+            .require_vector(name)
+            .map_err(|e| DataFileError::SensorVariable {
+                sensor: sensor.name.clone(),
+                source: Box::new(e),
+            })?;
+        columns.push(v.to_vec());
+        origins.push(format!("variable '{name}'"));
+    }
+    let (time, axis) = if let Some(name) = ["time", "t"]
+        .into_iter()
+        .find(|n| file.variable(n).is_some())
+    {
+        (
+            file.require_vector(name)?.to_vec(),
+            format!("variable '{name}'"),
+        )
+    } else if let Some(name) = ["sample_rate", "fs"]
+        .into_iter()
+        .find(|n| file.variable(n).is_some())
+    {
+        let v = file.require_vector(name)?;
+        let rate = match v {
+            [r] if r.is_finite() && *r > 0.0 => *r,
+            _ => {
+                return Err(DataFileError::BadSampleRate {
+                    path: path.into(),
+                    name: name.into(),
+                    found: format!("{v:?}"),
+                })
+            }
+        };
+        let n = columns.first().map_or(0, Vec::len);
+        let time = (0..n).map(|k| k as f64 / rate).collect();
+        (time, format!("{rate} Hz from variable '{name}'"))
+    } else {
+        return Err(DataFileError::NoTimeAxis {
+            path: path.into(),
+            variables: file.names().join(", "),
+        });
+    };
+    Ok(Raw {
+        time,
+        axis,
+        columns,
+        origins,
+    })
+}
+
+/// Universal file: the sensors' records (real, time response or general);
+/// time from the first record's abscissa, which the others must share.
+pub fn uff(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
+    let file = read_uff58(path)?;
+    let mut records: Vec<&UffRecord> = Vec::new();
+    for (sensor, source) in model.sensors.iter().zip(sources) {
+        let r = file.real_record(&source.record_ref()).map_err(|source| {
+            DataFileError::SensorRecord {
+                sensor: sensor.name.clone(),
+                source: Box::new(source),
+            }
+        })?;
+        if !matches!(r.function_type, 0 | 1) {
+            return Err(DataFileError::NotTimeResponse {
+                path: path.into(),
+                sensor: sensor.name.clone(),
+                record: r.number,
+                name: r.name().into(),
+                function_type: r.function_type,
+            });
+        }
+        records.push(r);
+    }
+    let Some(first) = records.first() else {
+        return Err(DataFileError::Empty { path: path.into() });
+    };
+    let time = first.abscissa.values();
+    for r in &records[1..] {
+        if let Some(detail) = abscissa_differs(&first.abscissa, &time, &r.abscissa) {
+            return Err(DataFileError::AbscissaMismatch {
+                path: path.into(),
+                first: first.number,
+                other: r.number,
+                detail,
+            });
+        }
+    }
+    Ok(Raw {
+        time,
+        axis: format!("abscissa of record {}", first.number),
+        columns: records.iter().map(|r| r.values.clone()).collect(),
+        origins: records
+            .iter()
+            .map(|r| format!("record {} '{}'", r.number, r.name()))
+            .collect(),
+    })
+}
+
+/// How abscissa `b` differs from `a` (whose values are `xa`), if it does:
+/// equal even spacings match exactly; otherwise the values must agree to
+/// 10⁻⁶ of a sample interval.
+fn abscissa_differs(a: &Abscissa, xa: &[f64], b: &Abscissa) -> Option<String> {
+    if a == b {
+        return None;
+    }
+    let xb = b.values();
+    if xa.len() != xb.len() {
+        return Some(format!("{} and {} points", xa.len(), xb.len()));
+    }
+    let step = match xa {
+        [first, .., last] => (last - first) / (xa.len() - 1) as f64,
+        _ => 0.0,
+    };
+    let tol = 1e-6 * step.abs();
+    xa.iter()
+        .zip(&xb)
+        .position(|(p, q)| !((p - q).abs() <= tol))
+        .map(|k| format!("point {k} is at {} and {}", xa[k], xb[k]))
+}
+
+/// The name a source reads in a CSV or MAT-file.
+fn by_name<'s>(
+    path: &Path,
+    sensor: &str,
+    source: &'s DataSource,
+) -> Result<&'s str, DataFileError> {
+    if let DataSource::Record(RecordRef::Index(n)) = source {
+        return Err(DataFileError::RecordNumber {
+            path: path.into(),
+            sensor: sensor.into(),
+            record: *n,
+        });
+    }
+    Ok(source.name().unwrap_or_default())
+}

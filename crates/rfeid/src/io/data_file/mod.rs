@@ -1,0 +1,134 @@
+//! Measured data for a model from a CSV file, a MATLAB MAT-file or a
+//! universal file (dataset 58), chosen by the file's extension.
+//!
+//! Each sensor reads one signal, given by a [`DataSource`] (from the model
+//! file's optional `data = { … }` of the sensor; by default the signal named
+//! like the sensor). The result is a [`TimeSeries`] whose columns are named
+//! and ordered like the model's sensors, ready for
+//! [`match_data`](crate::measurement::match_data). The same numbers in any
+//! of the formats give the same time series, hence the same identification.
+//!
+//! The time axis: CSV, the `time` column; MAT-file, a `time` (or `t`)
+//! vector, else `t_k = k / rate` from a `sample_rate` (or `fs`) scalar;
+//! universal file, the first sensor's record's abscissa
+//! (`min + k · increment`, or the stored values), which every other
+//! sensor's record must share. The axis must be finite and strictly
+//! increasing, every signal as long as it and finite.
+//!
+//! A CSV must not hold columns no sensor reads (a misspelt column would
+//! otherwise pass unnoticed); a MAT-file or universal file may hold other
+//! variables or records.
+mod error;
+mod formats;
+mod source;
+
+pub use error::DataFileError;
+pub use source::{default_sources, DataSource};
+
+use crate::io::timeseries::TimeSeries;
+use crate::model::Model;
+use std::path::Path;
+
+/// The data formats, by file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataFormat {
+    /// `.csv`.
+    Csv,
+    /// `.mat`: MATLAB Level 5.
+    Mat,
+    /// `.uff`, `.unv`, `.58`: universal file, dataset 58.
+    Uff,
+}
+
+impl DataFormat {
+    /// The format of `path` by its extension (case-insensitive).
+    pub fn of(path: &Path) -> Option<DataFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "csv" => DataFormat::Csv,
+            "mat" => DataFormat::Mat,
+            "uff" | "unv" | "58" => DataFormat::Uff,
+            _ => return None,
+        })
+    }
+}
+
+/// Reads the measured signals of `model`'s sensors from `path`;
+/// `sources[i]` says where sensor `i`'s signal is (see
+/// [`default_sources`]).
+pub fn read_measurement(
+    path: &Path,
+    model: &Model,
+    sources: &[DataSource],
+) -> Result<TimeSeries, DataFileError> {
+    if sources.len() != model.sensors.len() {
+        return Err(DataFileError::SourceCount {
+            path: path.into(),
+            sources: sources.len(),
+            sensors: model.sensors.len(),
+        });
+    }
+    let raw = match DataFormat::of(path) {
+        Some(DataFormat::Csv) => formats::csv(path, model, sources)?,
+        Some(DataFormat::Mat) => formats::mat(path, model, sources)?,
+        Some(DataFormat::Uff) => formats::uff(path, model, sources)?,
+        None => {
+            return Err(DataFileError::UnknownFormat {
+                path: path.into(),
+                extension: path
+                    .extension()
+                    .map(|e| format!(".{}", e.to_string_lossy()))
+                    .unwrap_or_default(),
+            })
+        }
+    };
+    check(path, model, raw)
+}
+
+/// The shared checks: a finite, strictly increasing time axis, and finite
+/// signals as long as it.
+fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<TimeSeries, DataFileError> {
+    if raw.time.is_empty() {
+        return Err(DataFileError::Empty { path: path.into() });
+    }
+    let bad_time = |index: usize, message: String| DataFileError::BadTime {
+        path: path.into(),
+        axis: raw.axis.clone(),
+        index,
+        message,
+    };
+    for (k, &t) in raw.time.iter().enumerate() {
+        if !t.is_finite() {
+            return Err(bad_time(k, format!("t = {t} is not a finite number")));
+        }
+        if k > 0 && !(t > raw.time[k - 1]) {
+            return Err(bad_time(k, format!("t = {t} s does not increase")));
+        }
+    }
+    for ((sensor, col), origin) in model.sensors.iter().zip(&raw.columns).zip(&raw.origins) {
+        if col.len() != raw.time.len() {
+            return Err(DataFileError::Length {
+                path: path.into(),
+                sensor: sensor.name.clone(),
+                source_desc: origin.clone(),
+                found: col.len(),
+                expected: raw.time.len(),
+                axis: raw.axis.clone(),
+            });
+        }
+        if let Some(k) = col.iter().position(|v| !v.is_finite()) {
+            return Err(DataFileError::NotFinite {
+                path: path.into(),
+                sensor: sensor.name.clone(),
+                source_desc: origin.clone(),
+                index: k,
+                value: col[k],
+            });
+        }
+    }
+    Ok(TimeSeries {
+        time: raw.time,
+        names: model.sensors.iter().map(|s| s.name.clone()).collect(),
+        columns: raw.columns,
+    })
+}
