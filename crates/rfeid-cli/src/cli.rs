@@ -157,7 +157,10 @@ pub enum WeightsArg {
 pub struct IdentifyArgs {
     /// The model file (TOML); parameters with `min` and `max` are identified.
     pub model: PathBuf,
-    /// Measured signals: CSV with `time` and one column per sensor.
+    /// Measured signals: CSV (`time` and one column per sensor), MATLAB .mat
+    /// (v5; vectors by name and a `time` vector or `sample_rate`), or a
+    /// universal file (.uff/.unv, dataset 58, ASCII or binary). A sensor's
+    /// `data = { column | variable | record = … }` says where its signal is.
     #[arg(long)]
     pub data: PathBuf,
     /// Result file (JSON).

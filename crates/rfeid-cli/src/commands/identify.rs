@@ -11,7 +11,7 @@ use rfeid::identification::pipeline::{
 };
 use rfeid::identification::result::IdentificationResult;
 use rfeid::io::atomic::write_atomically;
-use rfeid::io::timeseries::read_csv;
+use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::match_data;
 use rfeid::model::Model;
 use rfeid::simulation::{Response, Simulator};
@@ -20,7 +20,8 @@ use std::path::Path;
 /// Runs the command.
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
-    let data = read_csv(&args.data).map_err(Failure::input_msg)?;
+    let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
+    let data = read_measurement(&args.data, &model, &sources).map_err(Failure::input_msg)?;
     let measured = match_data(&model, &data)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", args.data.display())))?;
     let mut result = run_search(&model, measured.clone(), &args.search, ui)?;

@@ -5,7 +5,7 @@ use crate::cli::ReportArgs;
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
-use rfeid::io::timeseries::read_csv;
+use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::match_data;
 use rfeid::model::Model;
 use rfeid::report::{write_report, ReportInput};
@@ -40,7 +40,9 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
                 .as_deref()
                 .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
             let model = load(&resolve(model_path))?;
-            let ts = read_csv(&resolve(data)).map_err(Failure::input_msg)?;
+            let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
+            let ts =
+                read_measurement(&resolve(data), &model, &sources).map_err(Failure::input_msg)?;
             let measured =
                 match_data(&model, &ts).map_err(|e| Failure::input_msg(format!("{data}: {e}")))?;
             let title = format!("{} with {}", model_path, data);

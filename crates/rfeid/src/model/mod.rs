@@ -200,6 +200,9 @@ pub struct Sensor {
     pub direction: Vector3<f64>,
     /// Displacement, velocity or acceleration.
     pub kind: SensorKind,
+    /// Where its measured signal is in a data file (column, variable or
+    /// record); by default the signal named like the sensor.
+    pub data: crate::io::data_file::DataSource,
 }
 
 /// The sampling of a run: N = round(duration · rate) samples at t_k = k / rate.

@@ -8,8 +8,8 @@
 //! central differences of [`Simulator::run`] to rounding, which is what a
 //! Gauss–Newton or Levenberg–Marquardt step needs (eq. 26–28 use the same H₁).
 //!
-//! Steps are split where a power-law deformation crosses zero
-//! ([`super::stepper`]): there the force's second derivative jumps, and a step
+//! Steps are split where a power-law deformation crosses zero (the private
+//! `stepper` module): there the force's second derivative jumps, and a step
 //! across it would lose the method's order. With the splitting, the default,
 //! DOP853 with one step per sample, agrees with an independent reference on
 //! the knee–column benchmark to 4e-9 (relative RMS); without it, DOP853 needs

@@ -691,12 +691,22 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
                 ))
             }
         };
+        let data = match &rs.data {
+            Some(d) => {
+                d.get_ref()
+                    .check()
+                    .map_err(|m| ctx.err(Some(d.span()), &entry, "data", m))?;
+                d.get_ref().clone()
+            }
+            None => crate::io::data_file::DataSource::for_sensor(&name),
+        };
         sensors.push(Sensor {
             name,
             body,
             at,
             direction,
             kind,
+            data,
         });
     }
     if sensors.is_empty() {

@@ -139,6 +139,7 @@ pub struct RawSensor {
     pub at: Option<SVec>,
     pub direction: Option<SVec>,
     pub quantity: Option<Spanned<String>>,
+    pub data: Option<Spanned<crate::io::data_file::DataSource>>,
 }
 
 /// The file read loosely, every entry a plain table with its span: used only
