@@ -193,3 +193,72 @@ fn identification_does_not_depend_on_the_thread_count() {
         );
     }
 }
+
+/// `--weights estimated`: with 2 % noise on every sensor, σ_c = 0.02·RMS_c,
+/// so the estimated weights w_c = 1/σ_c² (scaled to a smallest of 1) follow
+/// the ratios of the signals' mean squares, to within sampling error.
+#[test]
+fn estimated_weights_follow_each_sensors_noise() {
+    use rfeid::identification::pipeline::Weighting;
+    use rfeid::measurement::rms;
+    let model = knee_column();
+    let clean = data(&model, None);
+    let measured = data(&model, Some((0.02, 11)));
+    let settings = Settings {
+        plan_points: 10,
+        starts: 1,
+        weighting: Weighting::EstimatedNoise,
+        ..Settings::default()
+    };
+    let r = identify(
+        OutputError::new(Simulator::new(&model), measured, 0),
+        &settings,
+        &Silent,
+    )
+    .expect("identifies");
+    let inv_var: Vec<f64> = (0..3)
+        .map(|c| 1.0 / (0.02 * rms(clean.sensor(c))).powi(2))
+        .collect();
+    let low = inv_var.iter().cloned().fold(f64::INFINITY, f64::min);
+    for (c, (w, expect)) in r
+        .weights
+        .iter()
+        .zip(inv_var.iter().map(|v| v / low))
+        .enumerate()
+    {
+        // 3000 samples: the variance estimate is good to about 2·√(2/3000) ≈ 5 %.
+        assert!(
+            (w / expect - 1.0).abs() < 0.1,
+            "sensor {c}: weight {w} vs {expect}"
+        );
+    }
+    assert!(
+        r.weights.iter().any(|w| *w > 10.0),
+        "weights should differ: {:?}",
+        r.weights
+    );
+}
+
+/// `--from`: ignoring the first 50 ms (the start-up transient) still finds
+/// the truth from noise-free data, from the remaining 2500 samples per sensor.
+#[test]
+fn fitting_from_a_later_time_uses_only_the_later_samples() {
+    let model = knee_column();
+    let settings = Settings {
+        plan_points: 20,
+        starts: 1,
+        ..Settings::default()
+    };
+    let r = identify(
+        OutputError::new(Simulator::new(&model), data(&model, None), 500),
+        &settings,
+        &Silent,
+    )
+    .expect("identifies");
+    assert_eq!(r.observations, 3 * 2500);
+    assert!((r.from - 0.05).abs() < 1e-12);
+    for p in &r.parameters {
+        let err = (p.estimate - p.nominal).abs() / p.nominal;
+        assert!(err < 1e-3, "{}: relative error {err:e}", p.name);
+    }
+}
