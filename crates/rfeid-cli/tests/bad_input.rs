@@ -99,6 +99,18 @@ fn data_errors_exit_2_without_output() {
         .collect();
     identify_fails(&slow, &[], "the model samples at");
     identify_fails(&good, &["--plan", "0"], "--plan 0");
+    // Regression: --from near the end of the record underflowed the sample
+    // count (or fitted nothing and exited 0).
+    identify_fails(
+        &good,
+        &["--from", "0.29995"],
+        "leaves 0 of the record's 3000 samples",
+    );
+    identify_fails(
+        &good,
+        &["--from", "0.2999"],
+        "leaves 1 of the record's 3000 samples",
+    );
 }
 
 #[test]

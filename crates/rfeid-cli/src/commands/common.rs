@@ -3,6 +3,7 @@ use crate::diagnostics::{model_error, Failure};
 use rfeid::io::model_file::load_model;
 use rfeid::io::units::parse_quantity;
 use rfeid::model::Model;
+use rfeid::simulation::SimulationError;
 use std::path::Path;
 
 /// Loads and validates a model file.
@@ -54,4 +55,16 @@ pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<
         params[i] = q.value;
     }
     Ok(())
+}
+
+/// A failed simulation at user-chosen values: parameter values the model
+/// cannot take (from `--set`) are bad input (exit 2); a run that diverges is
+/// a failed computation (exit 1).
+pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
+    match e {
+        SimulationError::BadParameter { .. }
+        | SimulationError::NonPositiveInertia { .. }
+        | SimulationError::BadExponent { .. } => Failure::input_msg(format!("{what}: {e}")),
+        _ => Failure::failed(format!("{what}: {e}")),
+    }
 }

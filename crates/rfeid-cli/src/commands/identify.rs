@@ -114,6 +114,14 @@ pub fn run_search(
         )));
     }
     let first = (a.from * s.sample_rate - 1e-9).ceil().max(0.0) as usize;
+    if first + 2 > s.n_samples() {
+        return Err(Failure::input_msg(format!(
+            "--from {}: leaves {} of the record's {} samples to fit",
+            a.from,
+            s.n_samples().saturating_sub(first),
+            s.n_samples()
+        )));
+    }
     if model.identified().is_empty() {
         return Err(Failure::input_msg(IdentifyError::NoParameters));
     }
@@ -147,9 +155,10 @@ pub fn run_search(
         quiet: ui.quiet,
     };
     let result = identify(problem, &settings, &progress).map_err(|e| match e {
-        IdentifyError::NoParameters | IdentifyError::Plan(_) | IdentifyError::NoStarts => {
-            Failure::input_msg(e)
-        }
+        IdentifyError::NoParameters
+        | IdentifyError::Plan(_)
+        | IdentifyError::NoStarts
+        | IdentifyError::TooFewObservations { .. } => Failure::input_msg(e),
         _ => Failure::failed(e),
     })?;
     progress.bar.finish_and_clear();

@@ -1,5 +1,5 @@
 //! `rfeid modal`: modes of the linearised model.
-use super::common::{apply_sets, load};
+use super::common::{apply_sets, load, simulation_failure};
 use crate::cli::ModalArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
@@ -15,7 +15,7 @@ pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
     apply_sets(&model, &args.set, &mut params)?;
     let sim = Simulator::new(&model);
     let modal = modal_analysis(&sim, &params)
-        .map_err(|e| Failure::failed(format!("modal analysis failed: {e}")))?;
+        .map_err(|e| simulation_failure("modal analysis failed", e))?;
     let coordinates: Vec<String> = model
         .bodies
         .iter()

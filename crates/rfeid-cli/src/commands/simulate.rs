@@ -1,5 +1,5 @@
 //! `rfeid simulate`: the response at nominal (or `--set`) parameter values.
-use super::common::{apply_sets, load};
+use super::common::{apply_sets, load, simulation_failure};
 use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
@@ -35,7 +35,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     let mut out = sim.response_buffer();
     let start = std::time::Instant::now();
     sim.run(&params, &mut Workspace::default(), &mut out)
-        .map_err(|e| Failure::failed(format!("simulation failed: {e}")))?;
+        .map_err(|e| simulation_failure("simulation failed", e))?;
     let elapsed = start.elapsed();
     if let Some(f) = args.noise {
         add_noise(&mut out, f, args.seed);

@@ -120,7 +120,7 @@ impl<'m> OutputError<'m> {
 
     /// Samples used per sensor.
     pub fn samples_used(&self) -> usize {
-        self.measured.n_samples - self.first
+        self.measured.n_samples.saturating_sub(self.first)
     }
 
     /// All parameter values at u.

@@ -81,6 +81,14 @@ pub enum IdentifyError {
     /// Zero starts.
     #[error("the number of starts must be at least 1")]
     NoStarts,
+    /// Fewer observations than the bounds need (eq. 29: N − r − 1 > 0).
+    #[error("{observations} observations are too few for {parameters} parameters (eq. 29 needs N − r − 1 > 0); is --from too late?")]
+    TooFewObservations {
+        /// N.
+        observations: usize,
+        /// r.
+        parameters: usize,
+    },
     /// No plan point could be simulated.
     #[error("all {points} plan points failed to simulate; the first failure: {first}")]
     AllPlanPointsFailed {
@@ -189,6 +197,12 @@ pub fn identify(
     if settings.starts == 0 {
         return Err(IdentifyError::NoStarts);
     }
+    if problem.n_residuals() <= r + 1 {
+        return Err(IdentifyError::TooFewObservations {
+            observations: problem.n_residuals(),
+            parameters: r,
+        });
+    }
     let model = problem.simulator().model();
 
     // 1. LP_τ plan (eq. 18–19).
@@ -232,7 +246,18 @@ pub fn identify(
             let used = problem.samples_used() as f64;
             let weights: Vec<f64> = ssr
                 .iter()
-                .map(|s| if *s > 0.0 { used / s } else { 1.0 })
+                .map(|s| if *s > 0.0 { used / s } else { f64::INFINITY })
+                .collect();
+            // A sensor fitted exactly (zero residuals) gets the largest finite
+            // weight, not an arbitrary one.
+            let largest = weights
+                .iter()
+                .cloned()
+                .filter(|w| w.is_finite())
+                .fold(1.0, f64::max);
+            let weights: Vec<f64> = weights
+                .iter()
+                .map(|w| if w.is_finite() { *w } else { largest })
                 .collect();
             let scale = weights.iter().cloned().fold(f64::INFINITY, f64::min);
             let weights: Vec<f64> = weights.iter().map(|w| w / scale).collect();
@@ -241,10 +266,12 @@ pub fn identify(
                 .zip(problem.weights())
                 .map(|(a, b)| (a / b - 1.0).abs())
                 .fold(0.0, f64::max);
-            problem.set_weights(&weights);
             if change < 0.01 {
+                // Keep the weights J was minimised with, so that the
+                // reported criterion and weights belong together.
                 break;
             }
+            problem.set_weights(&weights);
             let s = local_search(&problem, settings, &best.u, progress)?;
             sims += s.residual_evals;
             sims_sens += s.jacobian_evals;
@@ -261,21 +288,21 @@ pub fn identify(
     let mut res = vec![0.0; n_res];
     let mut jac = DMatrix::zeros(n_res, r);
     sims_sens += 1;
+    let mut s2 = None;
     let (uncertainty, unc_error) =
         match problem.residuals_jacobian(&mut ws, &best.u, &mut res, &mut jac) {
             Err(e) => (
                 None,
                 Some(format!("the simulation at the estimate failed: {e}")),
             ),
-            Ok(()) => match cramer_rao_normalised(
-                &jac,
-                sum_of_squares(&res),
-                problem.widths(),
-                &settings.uncertainty,
-            ) {
-                Ok(c) => (Some(c), None),
-                Err(e) => (None, Some(e.to_string())),
-            },
+            Ok(()) => {
+                let ssr = sum_of_squares(&res);
+                s2 = Some(ssr / (n_res - r - 1) as f64);
+                match cramer_rao_normalised(&jac, ssr, problem.widths(), &settings.uncertainty) {
+                    Ok(c) => (Some(c), None),
+                    Err(e) => (None, Some(e.to_string())),
+                }
+            }
         };
     let t_unc = t_unc.elapsed().as_secs_f64();
 
@@ -315,7 +342,7 @@ pub fn identify(
         parameters,
         criterion: best.cost,
         ssr,
-        s2: (n_obs > r + 1).then(|| sum_of_squares(&res) / (n_obs - r - 1) as f64),
+        s2,
         observations: n_obs,
         correlation: uncertainty.as_ref().map(|c| {
             c.correlation

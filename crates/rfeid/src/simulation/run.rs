@@ -103,6 +103,10 @@ impl<'m> Simulator<'m> {
 
     /// A simulator with explicit integrator settings.
     pub fn with_integrator(model: &'m Model, integrator: Integrator) -> Self {
+        let integrator = Integrator {
+            substeps: integrator.substeps.max(1),
+            ..integrator
+        };
         Simulator {
             model,
             structure: Structure::new(model),

@@ -274,7 +274,10 @@ impl<'a> System<'a> {
                     d[i] += b[i] * qj;
                 }
             }
-            for (i, &(a, m)) in am.iter().enumerate() {
+            // Only the real rows: the padding of the last panel has no
+            // `minv_row` (and its δ is NaN once the state is).
+            let rows = self.power.len() - 4 * p;
+            for (i, &(a, m)) in am.iter().enumerate().take(rows) {
                 let (f, _) = power_law(a, m, d[i]);
                 if f != 0.0 {
                     let g = &self.power[4 * p + i].minv_row;
