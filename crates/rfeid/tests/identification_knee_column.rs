@@ -65,6 +65,15 @@ fn noise_free_demo_recovers_every_parameter_within_a_tenth_of_a_percent() {
         r.iterations
     );
     assert!(r.iterations <= 15, "{} LM iterations", r.iterations);
+    // The work, not only the answer: 100 plan points, about one trial per
+    // LM iteration, one Jacobian per accepted step plus the bounds (measured:
+    // 107 simulations and 10 with sensitivities).
+    assert!(r.simulations <= 125, "{} simulations", r.simulations);
+    assert!(
+        r.simulations_with_sensitivities <= 16,
+        "{} simulations with sensitivities",
+        r.simulations_with_sensitivities
+    );
     assert_eq!(r.plan.failed, 0);
 }
 
