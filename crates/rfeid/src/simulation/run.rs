@@ -12,7 +12,7 @@
 //! `stepper` module): there the force's second derivative jumps, and a step
 //! across it would lose the method's order. With the splitting, the default,
 //! DOP853 with one step per sample, agrees with an independent reference on
-//! the knee–column benchmark to 4e-9 (relative RMS); without it, DOP853 needs
+//! the knee–column benchmark to 2e-9 (relative RMS); without it, DOP853 needs
 //! three steps per sample for 7e-7 and classical RK4 ten for 3e-7.
 //!
 //! Caveat: the step does not adapt. A model with modes much faster than the
