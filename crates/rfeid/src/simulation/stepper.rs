@@ -14,8 +14,10 @@
 //! depends on the parameters; its derivative is left out, which changes the
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
+use super::madd::Madd;
 use super::system::System;
 use super::tableau::Tableau;
+use std::marker::PhantomData;
 
 /// Crossings closer together than this fraction of a step are one split.
 /// Every crossing is split off, however near a step's end: skipping those
@@ -64,7 +66,7 @@ impl Workspace {
 }
 
 /// What a step needs: the equations, the method, the sensitivity columns.
-pub(crate) struct Stepper<'a> {
+pub(crate) struct Stepper<'a, M: Madd> {
     sys: &'a System<'a>,
     tab: &'a Tableau,
     wrt: &'a [usize],
@@ -73,6 +75,7 @@ pub(crate) struct Stepper<'a> {
     a_nz: Vec<Vec<(usize, f64)>>,
     /// The nonzero `b_i`, as (i, b_i).
     b_nz: Vec<(usize, f64)>,
+    madd: PhantomData<M>,
 }
 
 /// The nonzero entries of a row of coefficients.
@@ -84,7 +87,7 @@ fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
         .collect()
 }
 
-impl<'a> Stepper<'a> {
+impl<'a, M: Madd> Stepper<'a, M> {
     /// A stepper for one run (allocates its small coefficient lists once).
     pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &'a [usize], locate: bool) -> Self {
         Stepper {
@@ -94,6 +97,7 @@ impl<'a> Stepper<'a> {
             locate,
             a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
             b_nz: nonzero(tab.b),
+            madd: PhantomData,
         }
     }
 
@@ -158,7 +162,7 @@ impl<'a> Stepper<'a> {
         let ys = &ws.y_stage[i * n2..(i + 1) * n2];
         let ki = &mut ws.k[i * n2..(i + 1) * n2];
         ki[..n].copy_from_slice(&ys[n..]);
-        self.sys.accel(&ws.forces, ys, &mut ki[n..]);
+        self.sys.accel_with::<M>(&ws.forces, ys, &mut ki[n..]);
     }
 
     /// Stage i's sensitivity derivative from `sy_stage` and stage state i.
@@ -171,7 +175,7 @@ impl<'a> Stepper<'a> {
         let acc = &ws.k[i * n2 + n..(i + 1) * n2];
         let ksi = &mut ws.ks[i * n2 * r..(i + 1) * n2 * r];
         ksi[..n * r].copy_from_slice(&ws.sy_stage[n * r..]);
-        self.sys.accel_tangent(
+        self.sys.accel_tangent_with::<M>(
             t,
             ys,
             acc,
@@ -189,12 +193,12 @@ impl<'a> Stepper<'a> {
         for i in 1..self.tab.stages() {
             {
                 let (done, rest) = ws.y_stage.split_at_mut(i * n2);
-                combine(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
+                combine::<M>(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
                 let _ = done;
             }
             self.derivative(ws, i, t + self.tab.c[i] * h);
         }
-        combine(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
+        combine::<M>(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
     }
 
     /// Stages 1.. of the sensitivities (reusing the state's stage states)
@@ -203,10 +207,10 @@ impl<'a> Stepper<'a> {
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
         let len = 2 * self.sys.n * self.wrt.len();
         for i in 1..self.tab.stages() {
-            combine(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
+            combine::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
         }
-        accumulate(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
+        accumulate::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
     }
 
     /// Fractions θ ∈ (0, 1) of the step at which a power-law
@@ -263,46 +267,51 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
 /// at a time with the sum over the stages in registers (one pass over the
 /// output, not one per stage).
 #[inline(always)]
-fn combine(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
+fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
     let mut e0 = 0;
     while e0 + 8 <= len {
-        let s = stage_sum::<8>(k, a, len, e0);
+        let s = stage_sum::<M, 8>(k, a, len, e0);
         let (yc, oc) = (&y[e0..e0 + 8], &mut out[e0..e0 + 8]);
         for q in 0..8 {
-            oc[q] = yc[q] + h * s[q];
+            oc[q] = M::madd(h, s[q], yc[q]);
         }
         e0 += 8;
     }
     for (e, (o, ye)) in out.iter_mut().zip(y).enumerate().take(len).skip(e0) {
-        *o = ye + h * stage_sum::<1>(k, a, len, e)[0];
+        *o = M::madd(h, stage_sum::<M, 1>(k, a, len, e)[0], *ye);
     }
 }
 
 /// `y += h Σ_j a_j k_j`, like [`combine`].
 #[inline(always)]
-fn accumulate(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) {
+fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) {
     let mut e0 = 0;
     while e0 + 8 <= len {
-        let s = stage_sum::<8>(k, a, len, e0);
+        let s = stage_sum::<M, 8>(k, a, len, e0);
         let yc = &mut y[e0..e0 + 8];
         for q in 0..8 {
-            yc[q] += h * s[q];
+            yc[q] = M::madd(h, s[q], yc[q]);
         }
         e0 += 8;
     }
     for (e, ye) in y.iter_mut().enumerate().take(len).skip(e0) {
-        *ye += h * stage_sum::<1>(k, a, len, e)[0];
+        *ye = M::madd(h, stage_sum::<M, 1>(k, a, len, e)[0], *ye);
     }
 }
 
 /// `Σ_j a_j k_j[e0 .. e0 + W]`.
 #[inline(always)]
-fn stage_sum<const W: usize>(k: &[f64], a: &[(usize, f64)], len: usize, e0: usize) -> [f64; W] {
+fn stage_sum<M: Madd, const W: usize>(
+    k: &[f64],
+    a: &[(usize, f64)],
+    len: usize,
+    e0: usize,
+) -> [f64; W] {
     let mut s = [0.0; W];
     for &(j, aj) in a {
         let kj = &k[j * len + e0..j * len + e0 + W];
         for q in 0..W {
-            s[q] += aj * kj[q];
+            s[q] = M::madd(aj, kj[q], s[q]);
         }
     }
     s

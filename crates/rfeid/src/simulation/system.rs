@@ -6,6 +6,7 @@
 //! into dense `−M⁻¹K` and `−M⁻¹C` (the paper's K and C, and F_d); the
 //! power-law springs (F_e, eq. 2–6) stay as rows. [`System::accel`] and
 //! [`System::accel_tangent`] allocate nothing.
+use super::madd::{Madd, Separate};
 use super::structure::{Row, Structure, Usage};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
@@ -233,6 +234,12 @@ impl<'a> System<'a> {
     /// (length n); `forces` are the excitation forces at t ([`System::forces`]).
     #[inline(always)]
     pub fn accel(&self, forces: &[f64], y: &[f64], acc: &mut [f64]) {
+        self.accel_with::<Separate>(forces, y, acc)
+    }
+
+    /// [`System::accel`] with a chosen multiply–add.
+    #[inline(always)]
+    pub(crate) fn accel_with<M: Madd>(&self, forces: &[f64], y: &[f64], acc: &mut [f64]) {
         let n = self.n;
         let n2 = 2 * n;
         // [−M⁻¹K | −M⁻¹C] y in 4-row panels, accumulators in registers.
@@ -242,8 +249,8 @@ impl<'a> System<'a> {
             let mut cols = panel.chunks_exact(8).zip(y[..n2].chunks_exact(2));
             for (a, yj) in &mut cols {
                 for i in 0..4 {
-                    s[i] += a[i] * yj[0];
-                    t[i] += a[4 + i] * yj[1];
+                    s[i] = M::madd(a[i], yj[0], s[i]);
+                    t[i] = M::madd(a[4 + i], yj[1], t[i]);
                 }
             }
             for i in 0..4 {
@@ -271,7 +278,7 @@ impl<'a> System<'a> {
             let mut d = [0.0; 4];
             for (b, &qj) in panel.chunks_exact(4).zip(&y[..n]) {
                 for i in 0..4 {
-                    d[i] += b[i] * qj;
+                    d[i] = M::madd(b[i], qj, d[i]);
                 }
             }
             // Only the real rows: the padding of the last panel has no
@@ -293,9 +300,24 @@ impl<'a> System<'a> {
     /// This is the forward sensitivity equation; applied inside the same
     /// Runge–Kutta stages it gives the exact derivative of the discrete
     /// solution.
-    #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn accel_tangent(
+        &self,
+        t: f64,
+        y: &[f64],
+        acc: &[f64],
+        wrt: &[usize],
+        sy: &[f64],
+        dacc: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        self.accel_tangent_with::<Separate>(t, y, acc, wrt, sy, dacc, scratch)
+    }
+
+    /// [`System::accel_tangent`] with a chosen multiply–add.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn accel_tangent_with<M: Madd>(
         &self,
         t: f64,
         y: &[f64],
@@ -315,17 +337,17 @@ impl<'a> System<'a> {
             // Sixteen (then eight) parameters at a time, in two interleaved
             // accumulator chains, so that the loop is not latency-bound.
             while c0 + 16 <= r {
-                row_times::<16>(arow, sy, r, c0, out);
+                row_times::<M, 16>(arow, sy, r, c0, out);
                 c0 += 16;
             }
             while c0 + 8 <= r {
-                row_times::<8>(arow, sy, r, c0, out);
+                row_times::<M, 8>(arow, sy, r, c0, out);
                 c0 += 8;
             }
             // The rest one at a time, in the same order of operations, so a
             // column's value does not depend on how many columns there are.
             for c in c0..r {
-                row_times::<1>(arow, sy, r, c, out);
+                row_times::<M, 1>(arow, sy, r, c, out);
             }
         }
         // Power-law springs: −M⁻¹ rowᵀ f'(δ) (row · S).
@@ -473,7 +495,13 @@ impl<'a> System<'a> {
 
 /// `out[c0..c0+W] = Σ_j arow[j] · sy[j, c0..c0+W]` for row-major `sy` with r columns.
 #[inline(always)]
-fn row_times<const W: usize>(arow: &[f64], sy: &[f64], r: usize, c0: usize, out: &mut [f64]) {
+fn row_times<M: Madd, const W: usize>(
+    arow: &[f64],
+    sy: &[f64],
+    r: usize,
+    c0: usize,
+    out: &mut [f64],
+) {
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
     let mut pairs = arow.chunks_exact(2);
     let mut j = 0;
@@ -481,15 +509,15 @@ fn row_times<const W: usize>(arow: &[f64], sy: &[f64], r: usize, c0: usize, out:
         let x0 = &sy[j * r + c0..j * r + c0 + W];
         let x1 = &sy[(j + 1) * r + c0..(j + 1) * r + c0 + W];
         for k in 0..W {
-            s[k] += a[0] * x0[k];
-            t[k] += a[1] * x1[k];
+            s[k] = M::madd(a[0], x0[k], s[k]);
+            t[k] = M::madd(a[1], x1[k], t[k]);
         }
         j += 2;
     }
     if let [a] = pairs.remainder() {
         let x0 = &sy[j * r + c0..j * r + c0 + W];
         for k in 0..W {
-            s[k] += a * x0[k];
+            s[k] = M::madd(*a, x0[k], s[k]);
         }
     }
     for k in 0..W {
