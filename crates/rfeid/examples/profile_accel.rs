@@ -15,6 +15,7 @@ fn main() {
         .map(|i| 1e-7 * ((i as f64) * 0.7).sin())
         .collect();
     let mut acc = vec![0.0; n];
+    let mut scratch = vec![0.0; sys.scratch_len()];
     let mut forces = vec![0.0; 1];
     let reps: usize = std::env::var("REPS")
         .ok()
@@ -22,7 +23,7 @@ fn main() {
         .unwrap_or(1_000_000);
     let t0 = Instant::now();
     for i in 0..reps {
-        sys.accel(black_box(&forces), black_box(&y), &mut acc);
+        sys.accel(black_box(&forces), black_box(&y), &mut scratch, &mut acc);
         black_box(&acc);
         forces[0] = i as f64;
     }

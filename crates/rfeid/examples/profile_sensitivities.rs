@@ -15,11 +15,19 @@ fn main() {
         wrt: Vec::new(),
         values: Vec::new(),
     };
-    let reps = 10;
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(10);
+    let plain = std::env::var_os("PLAIN").is_some();
     let t0 = Instant::now();
     for _ in 0..reps {
-        sim.run_with_sensitivities(&params, &wrt, &mut ws, &mut out, &mut sens)
-            .expect("runs");
+        if plain {
+            sim.run(&params, &mut ws, &mut out).expect("runs");
+        } else {
+            sim.run_with_sensitivities(&params, &wrt, &mut ws, &mut out, &mut sens)
+                .expect("runs");
+        }
     }
     println!(
         "{:.1} ms per run with {} sensitivities",

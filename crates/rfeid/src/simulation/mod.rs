@@ -1,5 +1,6 @@
 //! Simulation of the equations of motion (eq. 1) with forward sensitivities,
 //! static equilibrium and modal analysis.
+mod dim;
 pub mod equilibrium;
 mod madd;
 pub mod modal;
@@ -8,6 +9,7 @@ mod stepper;
 pub mod structure;
 pub mod system;
 pub mod tableau;
+mod tangent;
 
 pub use run::{Integrator, Response, Sensitivities, Simulator, Workspace};
 

@@ -21,6 +21,7 @@
 //! numerical damping to speak of at these step sizes, but becomes unstable
 //! when ωh exceeds its stability limit (about 3 for DOP853's damped modes);
 //! that ends in [`SimulationError::Diverged`], never a hang.
+use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
 use super::madd::{Fused, Madd, Separate};
 use super::stepper::Stepper;
@@ -182,17 +183,27 @@ impl<'m> Simulator<'m> {
         if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
         {
             // SAFETY: the CPU supports AVX2 and FMA, checked just above.
-            return unsafe { self.integrate_avx2_fma(params, wrt, ws, out, sens) };
+            // Small models (up to four bodies) get kernels with n fixed.
+            return unsafe {
+                match self.structure.n {
+                    6 => self.integrate_avx2_fma::<Fixed<6>>(params, wrt, ws, out, sens),
+                    12 => self.integrate_avx2_fma::<Fixed<12>>(params, wrt, ws, out, sens),
+                    18 => self.integrate_avx2_fma::<Fixed<18>>(params, wrt, ws, out, sens),
+                    24 => self.integrate_avx2_fma::<Fixed<24>>(params, wrt, ws, out, sens),
+                    _ => self.integrate_avx2_fma::<Dynamic>(params, wrt, ws, out, sens),
+                }
+            };
         }
-        self.integrate_generic::<Separate>(params, wrt, ws, out, sens)
+        self.integrate_generic::<Separate, Dynamic>(params, wrt, ws, out, sens)
     }
 
     /// [`Self::integrate_generic`] compiled for AVX2 with fused multiply–add
-    /// in the kernels (see `madd`). Results differ from the portable path's
-    /// in the last bits, and are the same on every run of the same machine.
+    /// in the kernels (see `madd`), one function per size D. Results differ
+    /// from the portable path's in the last bits, and are the same on every
+    /// run of the same machine.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn integrate_avx2_fma(
+    unsafe fn integrate_avx2_fma<D: Dim>(
         &self,
         params: &[f64],
         wrt: &[usize],
@@ -200,11 +211,11 @@ impl<'m> Simulator<'m> {
         out: &mut Response,
         sens: Option<&mut Vec<f64>>,
     ) -> Result<(), SimulationError> {
-        self.integrate_generic::<Fused>(params, wrt, ws, out, sens)
+        self.integrate_generic::<Fused, D>(params, wrt, ws, out, sens)
     }
 
     #[inline(always)]
-    fn integrate_generic<M: Madd>(
+    fn integrate_generic<M: Madd, D: Dim>(
         &self,
         params: &[f64],
         wrt: &[usize],
@@ -222,7 +233,10 @@ impl<'m> Simulator<'m> {
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
-        ws.prepare(n, tab.stages(), r, self.model.excitations.len());
+        let st = Stepper::<M, D>::new(&sys, tab, wrt, self.integrator.locate_crossings);
+        let with_sens = sens.is_some();
+        let width = if with_sens { st.width() } else { 0 };
+        ws.prepare(&sys, tab.stages(), width);
 
         // Initial state: rest, or static equilibrium under gravity.
         let mut q0 = vec![0.0; n];
@@ -233,13 +247,15 @@ impl<'m> Simulator<'m> {
             s0 = eq.dq;
         }
         ws.y[..n].copy_from_slice(&q0);
-        ws.sy[..n * r].copy_from_slice(&s0);
+        if with_sens {
+            for (row, s) in ws.sy.chunks_exact_mut(width).zip(s0.chunks_exact(r.max(1))) {
+                row[..r].copy_from_slice(&s[..r]);
+            }
+        }
 
-        let st = Stepper::<M>::new(&sys, tab, wrt, self.integrator.locate_crossings);
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
         let total_steps = n_samples.saturating_sub(1) * substeps;
-        let with_sens = sens.is_some();
         for step in 0..=total_steps {
             let t = step as f64 * h;
             st.first_stage(ws, t, with_sens);
@@ -261,11 +277,11 @@ impl<'m> Simulator<'m> {
                     record_sens(
                         &self.structure,
                         &ws.sy,
-                        &ws.ks[n * r..2 * n * r],
+                        &ws.ks[n * width..2 * n * width],
                         &s0,
                         k,
                         n_samples,
-                        r,
+                        (r, width),
                         s,
                     );
                 }
@@ -307,7 +323,7 @@ fn record(
     }
 }
 
-/// Writes the sensitivities of sample k.
+/// Writes the sensitivities of sample k: r columns from rows `width` long.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn record_sens(
@@ -317,7 +333,7 @@ fn record_sens(
     s0: &[f64],
     k: usize,
     n_samples: usize,
-    r: usize,
+    (r, width): (usize, usize),
     out: &mut [f64],
 ) {
     let n = st.n;
@@ -329,9 +345,9 @@ fn record_sens(
                 continue;
             }
             let src = match kind {
-                SensorKind::Displacement => &sy[i * r..(i + 1) * r],
-                SensorKind::Velocity => &sy[(n + i) * r..(n + i + 1) * r],
-                SensorKind::Acceleration => &dacc[i * r..(i + 1) * r],
+                SensorKind::Displacement => &sy[i * width..i * width + r],
+                SensorKind::Velocity => &sy[(n + i) * width..(n + i) * width + r],
+                SensorKind::Acceleration => &dacc[i * width..i * width + r],
             };
             dst.iter_mut().zip(src).for_each(|(d, s)| *d += hi * s);
             if *kind == SensorKind::Displacement {

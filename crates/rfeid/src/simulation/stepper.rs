@@ -14,9 +14,11 @@
 //! depends on the parameters; its derivative is left out, which changes the
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
+use super::dim::Dim;
 use super::madd::Madd;
 use super::system::System;
 use super::tableau::Tableau;
+use super::tangent::Tangent;
 use std::marker::PhantomData;
 
 /// Crossings closer together than this fraction of a step are one split.
@@ -35,18 +37,24 @@ pub struct Workspace {
     y_stage: Vec<f64>,
     /// Stage derivatives, stages × 2n.
     pub(crate) k: Vec<f64>,
+    /// Sensitivities, 2n rows of the tangent's width.
     pub(crate) sy: Vec<f64>,
     sy_stage: Vec<f64>,
-    /// Stage derivatives of the sensitivities, stages × 2n·r.
+    /// Stage derivatives of the sensitivities, stages × 2n rows.
     pub(crate) ks: Vec<f64>,
     scratch: Vec<f64>,
+    /// Power-law forces of a stage.
+    power_forces: Vec<f64>,
     forces: Vec<f64>,
     forces_time: f64,
     crossings: Vec<f64>,
 }
 
 impl Workspace {
-    pub(crate) fn prepare(&mut self, n: usize, stages: usize, r: usize, excitations: usize) {
+    /// Sizes the buffers for the equations `sys`, a method of `stages` stages and
+    /// sensitivity rows `width` long (zero without sensitivities).
+    pub(crate) fn prepare(&mut self, sys: &System<'_>, stages: usize, width: usize) {
+        let n = sys.n;
         let resize = |v: &mut Vec<f64>, len: usize| {
             v.clear();
             v.resize(len, 0.0);
@@ -55,27 +63,28 @@ impl Workspace {
         resize(&mut self.y_new, 2 * n);
         resize(&mut self.y_stage, stages * 2 * n);
         resize(&mut self.k, stages * 2 * n);
-        resize(&mut self.sy, 2 * n * r);
-        resize(&mut self.sy_stage, 2 * n * r);
-        resize(&mut self.ks, stages * 2 * n * r);
-        resize(&mut self.scratch, r.max(1));
-        resize(&mut self.forces, excitations);
+        resize(&mut self.sy, 2 * n * width);
+        resize(&mut self.sy_stage, 2 * n * width);
+        resize(&mut self.ks, stages * 2 * n * width);
+        resize(&mut self.scratch, width);
+        resize(&mut self.forces, sys.minv_loads.len());
+        resize(&mut self.power_forces, sys.scratch_len());
         self.forces_time = f64::NAN;
         self.crossings.clear();
     }
 }
 
 /// What a step needs: the equations, the method, the sensitivity columns.
-pub(crate) struct Stepper<'a, M: Madd> {
+pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     sys: &'a System<'a>,
     tab: &'a Tableau,
-    wrt: &'a [usize],
+    tangent: Tangent,
     locate: bool,
     /// The nonzero `a_ij` of each stage, as (j, a_ij).
     a_nz: Vec<Vec<(usize, f64)>>,
     /// The nonzero `b_i`, as (i, b_i).
     b_nz: Vec<(usize, f64)>,
-    madd: PhantomData<M>,
+    kernel: PhantomData<(M, D)>,
 }
 
 /// The nonzero entries of a row of coefficients.
@@ -87,32 +96,35 @@ fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
         .collect()
 }
 
-impl<'a, M: Madd> Stepper<'a, M> {
+impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// A stepper for one run (allocates its small coefficient lists once).
-    pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &'a [usize], locate: bool) -> Self {
+    pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &[usize], locate: bool) -> Self {
         Stepper {
             sys,
             tab,
-            wrt,
+            tangent: Tangent::new(sys, wrt),
             locate,
             a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
             b_nz: nonzero(tab.b),
-            madd: PhantomData,
+            kernel: PhantomData,
         }
+    }
+
+    /// The length of a sensitivity row (see [`Tangent::width`]).
+    pub fn width(&self) -> usize {
+        self.tangent.width
     }
 
     /// `F(t, y)` into stage 0, and its sensitivity if wanted.
     #[inline(always)]
     pub fn first_stage(&self, ws: &mut Workspace, t: f64, with_sens: bool) {
-        let n = self.sys.n;
+        let n = D::n(self.sys.n);
         let n2 = 2 * n;
         ws.y_stage[..n2].copy_from_slice(&ws.y);
         self.derivative(ws, 0, t);
         if with_sens {
-            let r = self.wrt.len();
             ws.sy_stage.copy_from_slice(&ws.sy);
             self.sens_derivative(ws, 0, t);
-            let _ = r;
         }
     }
 
@@ -153,7 +165,7 @@ impl<'a, M: Madd> Stepper<'a, M> {
     /// Stage i's derivative from stage state i.
     #[inline(always)]
     fn derivative(&self, ws: &mut Workspace, i: usize, t: f64) {
-        let n = self.sys.n;
+        let n = D::n(self.sys.n);
         let n2 = 2 * n;
         if t != ws.forces_time {
             self.sys.forces(t, &mut ws.forces);
@@ -162,34 +174,29 @@ impl<'a, M: Madd> Stepper<'a, M> {
         let ys = &ws.y_stage[i * n2..(i + 1) * n2];
         let ki = &mut ws.k[i * n2..(i + 1) * n2];
         ki[..n].copy_from_slice(&ys[n..]);
-        self.sys.accel_with::<M>(&ws.forces, ys, &mut ki[n..]);
+        self.sys
+            .accel_with::<M, D>(&ws.forces, ys, &mut ws.power_forces, &mut ki[n..]);
     }
 
     /// Stage i's sensitivity derivative from `sy_stage` and stage state i.
     #[inline(always)]
     fn sens_derivative(&self, ws: &mut Workspace, i: usize, t: f64) {
-        let n = self.sys.n;
+        let n = D::n(self.sys.n);
         let n2 = 2 * n;
-        let r = self.wrt.len();
+        let w = self.tangent.width;
         let ys = &ws.y_stage[i * n2..(i + 1) * n2];
         let acc = &ws.k[i * n2 + n..(i + 1) * n2];
-        let ksi = &mut ws.ks[i * n2 * r..(i + 1) * n2 * r];
-        ksi[..n * r].copy_from_slice(&ws.sy_stage[n * r..]);
-        self.sys.accel_tangent_with::<M>(
-            t,
-            ys,
-            acc,
-            self.wrt,
-            &ws.sy_stage,
-            &mut ksi[n * r..],
-            &mut ws.scratch,
-        );
+        let ksi = &mut ws.ks[i * n2 * w..(i + 1) * n2 * w];
+        let (dq, dv) = ksi.split_at_mut(n * w);
+        dq.copy_from_slice(&ws.sy_stage[n * w..]);
+        self.tangent
+            .apply::<M, D>(self.sys, t, ys, acc, &ws.sy_stage, dv, &mut ws.scratch);
     }
 
     /// Stages 1.. of the state and `y_new = y + h Σ b_i k_i`.
     #[inline(always)]
     fn state_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
-        let n2 = 2 * self.sys.n;
+        let n2 = 2 * D::n(self.sys.n);
         for i in 1..self.tab.stages() {
             {
                 let (done, rest) = ws.y_stage.split_at_mut(i * n2);
@@ -205,7 +212,7 @@ impl<'a, M: Madd> Stepper<'a, M> {
     /// and `sy += h Σ b_i ks_i`.
     #[inline(always)]
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
-        let len = 2 * self.sys.n * self.wrt.len();
+        let len = 2 * D::n(self.sys.n) * self.tangent.width;
         for i in 1..self.tab.stages() {
             combine::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
@@ -216,7 +223,7 @@ impl<'a, M: Madd> Stepper<'a, M> {
     /// Fractions θ ∈ (0, 1) of the step at which a power-law
     /// deformation changes sign, sorted, into `ws.crossings`.
     fn find_crossings(&self, ws: &mut Workspace, h: f64) -> bool {
-        let n = self.sys.n;
+        let n = D::n(self.sys.n);
         ws.crossings.clear();
         for pr in self.sys.power.iter().filter(|p| p.kinked) {
             let d0 = pr.row.dot(&ws.y[..n]);
@@ -269,16 +276,17 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
 #[inline(always)]
 fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
     let mut e0 = 0;
+    while e0 + 32 <= len {
+        combine_chunk::<M, 32>(y, k, a, h, len, e0, out);
+        e0 += 32;
+    }
     while e0 + 8 <= len {
-        let s = stage_sum::<M, 8>(k, a, len, e0);
-        let (yc, oc) = (&y[e0..e0 + 8], &mut out[e0..e0 + 8]);
-        for q in 0..8 {
-            oc[q] = M::madd(h, s[q], yc[q]);
-        }
+        combine_chunk::<M, 8>(y, k, a, h, len, e0, out);
         e0 += 8;
     }
-    for (e, (o, ye)) in out.iter_mut().zip(y).enumerate().take(len).skip(e0) {
-        *o = M::madd(h, stage_sum::<M, 1>(k, a, len, e)[0], *ye);
+    // The remainder, one element at a time.
+    for e in e0..len {
+        combine_chunk::<M, 1>(y, k, a, h, len, e, out);
     }
 }
 
@@ -286,16 +294,51 @@ fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize
 #[inline(always)]
 fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) {
     let mut e0 = 0;
+    while e0 + 32 <= len {
+        accumulate_chunk::<M, 32>(y, k, a, h, len, e0);
+        e0 += 32;
+    }
     while e0 + 8 <= len {
-        let s = stage_sum::<M, 8>(k, a, len, e0);
-        let yc = &mut y[e0..e0 + 8];
-        for q in 0..8 {
-            yc[q] = M::madd(h, s[q], yc[q]);
-        }
+        accumulate_chunk::<M, 8>(y, k, a, h, len, e0);
         e0 += 8;
     }
-    for (e, ye) in y.iter_mut().enumerate().take(len).skip(e0) {
-        *ye = M::madd(h, stage_sum::<M, 1>(k, a, len, e)[0], *ye);
+    for e in e0..len {
+        accumulate_chunk::<M, 1>(y, k, a, h, len, e);
+    }
+}
+
+/// `out[e0..e0 + W] = y[e0..e0 + W] + h Σ_j a_j k_j[e0..e0 + W]`.
+#[inline(always)]
+fn combine_chunk<M: Madd, const W: usize>(
+    y: &[f64],
+    k: &[f64],
+    a: &[(usize, f64)],
+    h: f64,
+    len: usize,
+    e0: usize,
+    out: &mut [f64],
+) {
+    let s = stage_sum::<M, W>(k, a, len, e0);
+    let (yc, oc) = (&y[e0..e0 + W], &mut out[e0..e0 + W]);
+    for q in 0..W {
+        oc[q] = M::madd(h, s[q], yc[q]);
+    }
+}
+
+/// `y[e0..e0 + W] += h Σ_j a_j k_j[e0..e0 + W]`.
+#[inline(always)]
+fn accumulate_chunk<M: Madd, const W: usize>(
+    y: &mut [f64],
+    k: &[f64],
+    a: &[(usize, f64)],
+    h: f64,
+    len: usize,
+    e0: usize,
+) {
+    let s = stage_sum::<M, W>(k, a, len, e0);
+    let yc = &mut y[e0..e0 + W];
+    for q in 0..W {
+        yc[q] = M::madd(h, s[q], yc[q]);
     }
 }
 

@@ -16,7 +16,7 @@ pub struct Row {
 
 impl Row {
     /// `row · q`.
-    #[inline]
+    #[inline(always)]
     pub fn dot(&self, q: &[f64]) -> f64 {
         // Two partial sums per block break the addition chain.
         let mut s = [0.0; 2];

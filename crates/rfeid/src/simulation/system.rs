@@ -4,10 +4,11 @@
 //!
 //! written as `q̈ = a(t, q, q̇)`. Linear springs and all dampers are folded
 //! into dense `−M⁻¹K` and `−M⁻¹C` (the paper's K and C, and F_d); the
-//! power-law springs (F_e, eq. 2–6) stay as rows. [`System::accel`] and
-//! [`System::accel_tangent`] allocate nothing.
+//! power-law springs (F_e, eq. 2–6) stay as rows. [`System::accel`]
+//! allocates nothing; the sensitivities' right-hand side is in `tangent`.
+use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
-use super::structure::{Row, Structure, Usage};
+use super::structure::{Row, Structure};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
 
@@ -16,8 +17,6 @@ use crate::model::{Law, Model, Signal};
 pub struct PowerRow {
     /// δ = row · q.
     pub row: Row,
-    /// `M⁻¹ rowᵀ`, dense.
-    pub minv_row: Vec<f64>,
     /// Coefficient a.
     pub a: f64,
     /// Exponent m ≥ 1.
@@ -56,9 +55,15 @@ pub struct System<'a> {
     pub minv: Vec<f64>,
     /// `[−M⁻¹K | −M⁻¹C]`, n × 2n, row-major; multiplies the state `[q; q̇]`.
     pub a_lin: Vec<f64>,
-    /// The same in 4-row panels (`[panel][column][4]`, zero-padded), so that
-    /// [`System::accel`] keeps its accumulators in registers.
-    a_panels: Vec<f64>,
+    /// `[−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L]` in 4-row panels
+    /// (`[panel][column][4]`, zero-padded): one product with
+    /// `[q; q̇; f_p; P]` gives q̈ (eq. 1), accumulators in registers.
+    a_ext: Vec<f64>,
+    /// Columns of `a_ext`: 2n, then one per power-law slot, then one per
+    /// excitation.
+    ext_cols: usize,
+    /// `M⁻¹ × weight` in the same 4-row panels.
+    gravity_panels: Vec<[f64; 4]>,
     /// Power-law rows.
     pub power: Vec<PowerRow>,
     /// `M⁻¹ L_e` per excitation.
@@ -67,12 +72,8 @@ pub struct System<'a> {
     pub minv_gravity: Vec<f64>,
     /// Power-law rows of B in 4-row panels, `[panel][coordinate][4]`, zero-padded.
     power_b: Vec<f64>,
-    /// `(a, m)` per power-law row, padded to whole panels with `(0, 2)`.
+    /// `(a, m)` per power-law slot: the rows, padded to whole panels with `(0, 2)`.
     power_am: Vec<(f64, f64)>,
-    /// Per component row i: the nonzero entries of `M⁻¹ B_iᵀ` as (coordinate, value).
-    comp_minv: Vec<Vec<(usize, f64)>>,
-    /// Per component row: `(a, m)` of a power law (unused otherwise).
-    comp_power: Vec<(f64, f64)>,
 }
 
 impl<'a> System<'a> {
@@ -137,11 +138,8 @@ impl<'a> System<'a> {
                             value: m,
                         });
                     }
-                    let mut minv_row = comp.row.dense(n);
-                    minv_row.iter_mut().zip(&minv).for_each(|(x, mi)| *x *= mi);
                     power.push(PowerRow {
                         row: comp.row.clone(),
-                        minv_row,
                         a: a.eval(params),
                         m,
                         kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
@@ -156,42 +154,14 @@ impl<'a> System<'a> {
                 a_lin[i * 2 * n + n + j] = -minv[i] * c[i * n + j];
             }
         }
-        let panels = n.div_ceil(4);
-        let mut a_panels = vec![0.0; panels * 2 * n * 4];
-        for i in 0..n {
-            for j in 0..2 * n {
-                a_panels[((i / 4) * 2 * n + j) * 4 + i % 4] = a_lin[i * 2 * n + j];
-            }
-        }
-        let minv_loads = structure
+        let minv_loads: Vec<Vec<f64>> = structure
             .loads
             .iter()
             .map(|l| l.iter().zip(&minv).map(|(x, m)| x * m).collect())
             .collect();
-        let comp_minv = structure
-            .components
-            .iter()
-            .map(|c| {
-                c.row
-                    .blocks
-                    .iter()
-                    .flat_map(|(off, co)| (0..6).map(move |i| (off + i, co[i])))
-                    .filter(|(_, v)| *v != 0.0)
-                    .map(|(k, v)| (k, v * minv[k]))
-                    .collect()
-            })
-            .collect();
-        let comp_power = structure
-            .components
-            .iter()
-            .map(|c| match c.law {
-                Law::Power { a, m } => (a.eval(params), m.eval(params)),
-                _ => (0.0, 1.0),
-            })
-            .collect();
-        let panels = power.len().div_ceil(4);
-        let mut power_b = vec![0.0; panels * n * 4];
-        let mut power_am = vec![(0.0, 2.0); panels * 4];
+        let slots = 4 * power.len().div_ceil(4);
+        let mut power_b = vec![0.0; slots * n];
+        let mut power_am = vec![(0.0, 2.0); slots];
         for (k, pr) in power.iter().enumerate() {
             let dense = pr.row.dense(n);
             for (j, v) in dense.iter().enumerate() {
@@ -199,18 +169,40 @@ impl<'a> System<'a> {
             }
             power_am[k] = (pr.a, pr.m);
         }
+        // Column j of the extended matrix, row i.
+        let ext_cols = 2 * n + slots + minv_loads.len();
+        let column = |i: usize, j: usize| -> f64 {
+            if j < 2 * n {
+                a_lin[i * 2 * n + j]
+            } else if j < 2 * n + power.len() {
+                -power[j - 2 * n].row.dense(n)[i] * minv[i]
+            } else if j < 2 * n + slots {
+                0.0
+            } else {
+                minv_loads[j - 2 * n - slots][i]
+            }
+        };
+        let panels = n.div_ceil(4);
+        let mut a_ext = vec![0.0; panels * ext_cols * 4];
+        let mut gravity_panels = vec![[0.0; 4]; panels];
+        for i in 0..n {
+            for j in 0..ext_cols {
+                a_ext[((i / 4) * ext_cols + j) * 4 + i % 4] = column(i, j);
+            }
+            gravity_panels[i / 4][i % 4] = minv_gravity[i];
+        }
         Ok(System {
             power_b,
             power_am,
-            comp_minv,
-            comp_power,
             structure,
             model,
             params: params.to_vec(),
             n,
             minv,
             a_lin,
-            a_panels,
+            a_ext,
+            ext_cols,
+            gravity_panels,
             power,
             minv_loads,
             minv_gravity,
@@ -230,50 +222,39 @@ impl<'a> System<'a> {
         }
     }
 
-    /// `q̈ = a(t, q, q̇)` for the state `y = [q; q̇]` (length 2n), into `acc`
-    /// (length n); `forces` are the excitation forces at t ([`System::forces`]).
-    #[inline(always)]
-    pub fn accel(&self, forces: &[f64], y: &[f64], acc: &mut [f64]) {
-        self.accel_with::<Separate>(forces, y, acc)
+    /// Scratch length that [`System::accel`] needs: the power-law slots.
+    pub fn scratch_len(&self) -> usize {
+        self.power_am.len()
     }
 
-    /// [`System::accel`] with a chosen multiply–add.
+    /// `q̈ = a(t, q, q̇)` for the state `y = [q; q̇]` (length 2n), into `acc`
+    /// (length n); `forces` are the excitation forces at t ([`System::forces`]),
+    /// `scratch` is at least [`System::scratch_len`] long.
     #[inline(always)]
-    pub(crate) fn accel_with<M: Madd>(&self, forces: &[f64], y: &[f64], acc: &mut [f64]) {
-        let n = self.n;
-        let n2 = 2 * n;
-        // [−M⁻¹K | −M⁻¹C] y in 4-row panels, accumulators in registers.
-        for (p, panel) in self.a_panels.chunks_exact(4 * n2).enumerate() {
-            // Two accumulator sets (even and odd columns) halve the add chain.
-            let (mut s, mut t) = ([0.0; 4], [0.0; 4]);
-            let mut cols = panel.chunks_exact(8).zip(y[..n2].chunks_exact(2));
-            for (a, yj) in &mut cols {
-                for i in 0..4 {
-                    s[i] = M::madd(a[i], yj[0], s[i]);
-                    t[i] = M::madd(a[4 + i], yj[1], t[i]);
-                }
-            }
-            for i in 0..4 {
-                s[i] += t[i];
-            }
-            let rows = &mut acc[4 * p..(4 * p + 4).min(n)];
-            rows.iter_mut().zip(&s).for_each(|(r, v)| *r = *v);
-        }
-        acc.iter_mut()
-            .zip(&self.minv_gravity)
-            .for_each(|(a, g)| *a += g);
-        for (l, &p) in self.minv_loads.iter().zip(forces) {
-            if p != 0.0 {
-                axpy(p, l, acc);
-            }
-        }
-        // Power-law springs four at a time: δ = B q for the panel, then
-        // q̈ −= M⁻¹ Bᵀ f(δ) (eq. 2–6).
-        for (p, (panel, am)) in self
+    pub fn accel(&self, forces: &[f64], y: &[f64], scratch: &mut [f64], acc: &mut [f64]) {
+        self.accel_with::<Separate, Dynamic>(forces, y, scratch, acc)
+    }
+
+    /// [`System::accel`] with a chosen multiply–add and size.
+    #[inline(always)]
+    pub(crate) fn accel_with<M: Madd, D: Dim>(
+        &self,
+        forces: &[f64],
+        y: &[f64],
+        scratch: &mut [f64],
+        acc: &mut [f64],
+    ) {
+        let n = D::n(self.n);
+        let (y, acc) = (&y[..2 * n], &mut acc[..n]);
+        let slots = self.power_am.len();
+        let fp = &mut scratch[..slots];
+        // The power-law forces four at a time: δ = B q for the panel, then
+        // f = a sign(δ)|δ|^m (eq. 2–6).
+        for ((panel, am), f) in self
             .power_b
             .chunks_exact(4 * n)
             .zip(self.power_am.chunks_exact(4))
-            .enumerate()
+            .zip(fp.chunks_exact_mut(4))
         {
             let mut d = [0.0; 4];
             for (b, &qj) in panel.chunks_exact(4).zip(&y[..n]) {
@@ -281,164 +262,27 @@ impl<'a> System<'a> {
                     d[i] = M::madd(b[i], qj, d[i]);
                 }
             }
-            // Only the real rows: the padding of the last panel has no
-            // `minv_row` (and its δ is NaN once the state is).
-            let rows = self.power.len() - 4 * p;
-            for (i, &(a, m)) in am.iter().enumerate().take(rows) {
-                let (f, _) = power_law(a, m, d[i]);
-                if f != 0.0 {
-                    let g = &self.power[4 * p + i].minv_row;
-                    acc.iter_mut().zip(g).for_each(|(ai, gi)| *ai -= f * gi);
-                }
+            for i in 0..4 {
+                f[i] = power_law(am[i].0, am[i].1, d[i]).0;
             }
         }
-    }
-
-    /// The acceleration of the sensitivities: for `Y = ∂y/∂x` (2n × r,
-    /// row-major, r = `wrt.len()`) computes `∂q̈/∂x = (∂a/∂y) Y + ∂a/∂x`
-    /// into `dacc` (n × r, row-major). `acc` is `a(t, y)`, already computed.
-    /// This is the forward sensitivity equation; applied inside the same
-    /// Runge–Kutta stages it gives the exact derivative of the discrete
-    /// solution.
-    #[allow(clippy::too_many_arguments)]
-    pub fn accel_tangent(
-        &self,
-        t: f64,
-        y: &[f64],
-        acc: &[f64],
-        wrt: &[usize],
-        sy: &[f64],
-        dacc: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        self.accel_tangent_with::<Separate>(t, y, acc, wrt, sy, dacc, scratch)
-    }
-
-    /// [`System::accel_tangent`] with a chosen multiply–add.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn accel_tangent_with<M: Madd>(
-        &self,
-        t: f64,
-        y: &[f64],
-        acc: &[f64],
-        wrt: &[usize],
-        sy: &[f64],
-        dacc: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        let n = self.n;
-        let r = wrt.len();
-        // Linear part: [−M⁻¹K | −M⁻¹C] Y.
-        for i in 0..n {
-            let out = &mut dacc[i * r..(i + 1) * r];
-            let arow = &self.a_lin[i * 2 * n..(i + 1) * 2 * n];
-            let mut c0 = 0;
-            // Sixteen (then eight) parameters at a time, in two interleaved
-            // accumulator chains, so that the loop is not latency-bound.
-            while c0 + 16 <= r {
-                row_times::<M, 16>(arow, sy, r, c0, out);
-                c0 += 16;
-            }
-            while c0 + 8 <= r {
-                row_times::<M, 8>(arow, sy, r, c0, out);
-                c0 += 8;
-            }
-            // The rest one at a time, in the same order of operations, so a
-            // column's value does not depend on how many columns there are.
-            for c in c0..r {
-                row_times::<M, 1>(arow, sy, r, c, out);
-            }
-        }
-        // Power-law springs: −M⁻¹ rowᵀ f'(δ) (row · S).
-        let w = &mut scratch[..r];
-        for pr in &self.power {
-            let d = pr.row.dot(&y[..n]);
-            let (_, slope) = power_law(pr.a, pr.m, d);
-            if slope == 0.0 {
-                continue;
-            }
-            w.fill(0.0);
-            for (off, c) in &pr.row.blocks {
-                for (i, &ci) in c.iter().enumerate() {
-                    if ci != 0.0 {
-                        axpy(ci, &sy[(off + i) * r..(off + i + 1) * r], w);
-                    }
-                }
-            }
-            for (i, &g) in pr.minv_row.iter().enumerate() {
-                if g != 0.0 {
-                    axpy(-g * slope, w, &mut dacc[i * r..(i + 1) * r]);
-                }
-            }
-        }
-        // Explicit dependence on each parameter.
-        for (col, &p) in wrt.iter().enumerate() {
-            for usage in &self.structure.usages[p] {
-                self.explicit(*usage, t, y, acc, col, r, dacc);
-            }
-        }
-    }
-
-    /// Adds `∂a/∂x` for one usage of a parameter into column `col` of `dacc`.
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn explicit(
-        &self,
-        usage: Usage,
-        t: f64,
-        y: &[f64],
-        acc: &[f64],
-        col: usize,
-        r: usize,
-        dacc: &mut [f64],
-    ) {
-        let n = self.n;
-        let comps = &self.structure.components;
-        // A component's force f contributes −M⁻¹ B_iᵀ f.
-        let (i, force) = match usage {
-            Usage::Stiffness(i) => (i, comps[i].row.dot(&y[..n])),
-            Usage::Damping(i) => (i, comps[i].row.dot(&y[n..])),
-            Usage::PowerCoefficient(i) => {
-                let (_, m) = self.comp_power[i];
-                (i, power_law(1.0, m, comps[i].row.dot(&y[..n])).0)
-            }
-            Usage::PowerExponent(i) => {
-                let (a, m) = self.comp_power[i];
-                let d = comps[i].row.dot(&y[..n]);
-                let f = if d == 0.0 {
-                    0.0
-                } else {
-                    a * power_law(1.0, m, d).0 * d.abs().ln()
-                };
-                (i, f)
-            }
-            Usage::Mass(b) => {
-                let m = self.model.bodies[b].mass.eval(&self.params);
-                for i in 0..3 {
-                    let k = 6 * b + i;
-                    dacc[k * r + col] += (self.minv_gravity[k] - acc[k]) / m;
-                }
-                return;
-            }
-            Usage::Inertia(b, axis) => {
-                let k = 6 * b + 3 + axis;
-                dacc[k * r + col] -= acc[k] * self.minv[k];
-                return;
-            }
-            Usage::Amplitude(e, j) => {
-                let s = self.model.excitations[e].signal.terms[j].shape.at(t);
-                if s != 0.0 {
-                    for (k, l) in self.minv_loads[e].iter().enumerate() {
-                        dacc[k * r + col] += s * l;
-                    }
-                }
-                return;
-            }
-        };
-        if force != 0.0 {
-            for &(k, g) in &self.comp_minv[i] {
-                dacc[k * r + col] -= g * force;
+        // q̈ = M⁻¹(weight) + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
+        let (ny, nf) = (2 * n, slots);
+        for ((panel, g), rows) in self
+            .a_ext
+            .chunks_exact(4 * self.ext_cols)
+            .zip(&self.gravity_panels)
+            .zip(acc.chunks_mut(4))
+        {
+            let (py, rest) = panel.split_at(4 * ny);
+            let (pf, pl) = rest.split_at(4 * nf);
+            // Two accumulator sets (even and odd columns) halve the add chain.
+            let (mut s, mut t) = (*g, [0.0; 4]);
+            panel_madd::<M>(py, y, &mut s, &mut t);
+            panel_madd::<M>(pf, fp, &mut s, &mut t);
+            panel_madd::<M>(pl, forces, &mut s, &mut t);
+            for (r, (a, b)) in rows.iter_mut().zip(s.iter().zip(&t)) {
+                *r = a + b;
             }
         }
     }
@@ -493,39 +337,21 @@ impl<'a> System<'a> {
     }
 }
 
-/// `out[c0..c0+W] = Σ_j arow[j] · sy[j, c0..c0+W]` for row-major `sy` with r columns.
+/// `s, t += Σ_j panel[j][..4] x_j` over the columns of a 4-row panel,
+/// alternating between the two accumulators.
 #[inline(always)]
-fn row_times<M: Madd, const W: usize>(
-    arow: &[f64],
-    sy: &[f64],
-    r: usize,
-    c0: usize,
-    out: &mut [f64],
-) {
-    let (mut s, mut t) = ([0.0; W], [0.0; W]);
-    let mut pairs = arow.chunks_exact(2);
-    let mut j = 0;
-    for a in &mut pairs {
-        let x0 = &sy[j * r + c0..j * r + c0 + W];
-        let x1 = &sy[(j + 1) * r + c0..(j + 1) * r + c0 + W];
-        for k in 0..W {
-            s[k] = M::madd(a[0], x0[k], s[k]);
-            t[k] = M::madd(a[1], x1[k], t[k]);
-        }
-        j += 2;
-    }
-    if let [a] = pairs.remainder() {
-        let x0 = &sy[j * r + c0..j * r + c0 + W];
-        for k in 0..W {
-            s[k] = M::madd(*a, x0[k], s[k]);
+fn panel_madd<M: Madd>(panel: &[f64], x: &[f64], s: &mut [f64; 4], t: &mut [f64; 4]) {
+    let mut cols = panel.chunks_exact(8);
+    let mut xs = x.chunks_exact(2);
+    for (a, xj) in (&mut cols).zip(&mut xs) {
+        for i in 0..4 {
+            s[i] = M::madd(a[i], xj[0], s[i]);
+            t[i] = M::madd(a[4 + i], xj[1], t[i]);
         }
     }
-    for k in 0..W {
-        out[c0 + k] = s[k] + t[k];
+    if let ([a0, a1, a2, a3], [x0]) = (cols.remainder(), xs.remainder()) {
+        for (i, a) in [a0, a1, a2, a3].into_iter().enumerate() {
+            s[i] = M::madd(*a, *x0, s[i]);
+        }
     }
-}
-
-#[inline(always)]
-fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
-    y.iter_mut().zip(x).for_each(|(yi, xi)| *yi += alpha * xi);
 }

@@ -1,0 +1,36 @@
+//! The number of coordinates n, known at compile time or at run time.
+//!
+//! The kernels read n through [`Dim::n`]. Compiled with [`Fixed`], n is a
+//! constant: the short loops over coordinates unroll, the state fits in
+//! registers and the bounds checks fold away. [`Dynamic`] serves every other
+//! size with the same code, so both give the same operations in the same
+//! order and therefore the same results.
+
+/// Where n comes from.
+pub(crate) trait Dim: Copy {
+    /// n, given the run-time value (which a fixed size must equal).
+    fn n(runtime: usize) -> usize;
+}
+
+/// n known at compile time.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Fixed<const N: usize>;
+
+/// n known at run time only.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dynamic;
+
+impl<const N: usize> Dim for Fixed<N> {
+    #[inline(always)]
+    fn n(runtime: usize) -> usize {
+        debug_assert_eq!(runtime, N);
+        N
+    }
+}
+
+impl Dim for Dynamic {
+    #[inline(always)]
+    fn n(runtime: usize) -> usize {
+        runtime
+    }
+}
