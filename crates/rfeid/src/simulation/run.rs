@@ -235,8 +235,11 @@ impl<'m> Simulator<'m> {
         out.values.resize(n_samples * n_sensors, 0.0);
         let st = Stepper::<M, D>::new(&sys, tab, wrt, self.integrator.locate_crossings);
         let with_sens = sens.is_some();
-        let width = if with_sens { st.width() } else { 0 };
-        ws.prepare(&sys, tab.stages(), width);
+        let (width, scratch) = match with_sens {
+            true => (st.width(), st.scratch_len()),
+            false => (0, 0),
+        };
+        ws.prepare(&sys, tab.stages(), width, scratch);
 
         // Initial state: rest, or static equilibrium under gravity.
         let mut q0 = vec![0.0; n];

@@ -51,9 +51,16 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    /// Sizes the buffers for the equations `sys`, a method of `stages` stages and
-    /// sensitivity rows `width` long (zero without sensitivities).
-    pub(crate) fn prepare(&mut self, sys: &System<'_>, stages: usize, width: usize) {
+    /// Sizes the buffers for the equations `sys`, a method of `stages` stages,
+    /// sensitivity rows `width` long (zero without sensitivities) and the
+    /// sensitivities' `scratch`; zero-fills them.
+    pub(crate) fn prepare(
+        &mut self,
+        sys: &System<'_>,
+        stages: usize,
+        width: usize,
+        scratch: usize,
+    ) {
         let n = sys.n;
         let resize = |v: &mut Vec<f64>, len: usize| {
             v.clear();
@@ -66,7 +73,7 @@ impl Workspace {
         resize(&mut self.sy, 2 * n * width);
         resize(&mut self.sy_stage, 2 * n * width);
         resize(&mut self.ks, stages * 2 * n * width);
-        resize(&mut self.scratch, width);
+        resize(&mut self.scratch, scratch);
         resize(&mut self.forces, sys.minv_loads.len());
         resize(&mut self.power_forces, sys.scratch_len());
         self.forces_time = f64::NAN;
@@ -113,6 +120,11 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// The length of a sensitivity row (see [`Tangent::width`]).
     pub fn width(&self) -> usize {
         self.tangent.width
+    }
+
+    /// The scratch the sensitivities need (see [`Tangent::scratch_len`]).
+    pub fn scratch_len(&self) -> usize {
+        self.tangent.scratch_len()
     }
 
     /// `F(t, y)` into stage 0, and its sensitivity if wanted.

@@ -6,9 +6,9 @@
 //! where for each component i that is a power-law spring or holds an
 //! identified parameter, `w_i = f_i'(δ_i) B_i Y_q + ∂f_i/∂x` is a row over
 //! the parameters (eq. 2–6: f_i = a δ|δ|^(m−1) + c δ̇, or k δ + c δ̇).
-//! Gathering each component's terms into one row and scattering it once
-//! through the sparse `M⁻¹B_iᵀ` keeps every inner loop a contiguous
-//! multiply–add over the parameters.
+//! With these rows stacked as W, the whole right-hand side is one dense
+//! product `[−M⁻¹K | −M⁻¹C | −M⁻¹Bᵀ] [Y; W]`, whose inner loop is a
+//! contiguous multiply–add over the parameters.
 //!
 //! Rows of Y and of the result hold [`Tangent::width`] columns: r rounded up
 //! to a multiple of four, so the kernels run on whole vectors. The padding
@@ -25,10 +25,8 @@ use crate::model::Law;
 struct Active {
     /// `δ_i = B_i q`.
     row: Row,
-    /// The nonzero entries of `B_i`, as (coordinate, value).
-    b: Vec<(usize, f64)>,
-    /// The nonzero entries of `M⁻¹ B_iᵀ`, as (coordinate, value).
-    g: Vec<(usize, f64)>,
+    /// `B_i`, dense (n).
+    b: Vec<f64>,
     /// `(a, m)` of a power-law spring.
     power: Option<(f64, f64)>,
     /// Identified parameters acting here: (column, usage).
@@ -43,18 +41,15 @@ pub(crate) struct Tangent {
     /// multiple of four.
     pub width: usize,
     active: Vec<Active>,
+    /// `[−M⁻¹K | −M⁻¹C | −M⁻¹B_aᵀ]` over the active components a, n rows of
+    /// [`Self::ext_cols`], row-major: multiplies `[Y; W]`.
+    ext: Vec<f64>,
+    /// 2n plus [`Self::w_rows`].
+    ext_cols: usize,
+    /// Rows of W: the active components rounded up to even.
+    w_rows: usize,
     /// Mass, inertia and amplitude parameters: (column, usage).
     others: Vec<(usize, Usage)>,
-}
-
-/// The nonzero entries of a row, scaled per coordinate.
-fn nonzero(row: &Row, scale: &[f64]) -> Vec<(usize, f64)> {
-    row.blocks
-        .iter()
-        .flat_map(|(off, c)| (0..6).map(move |i| (off + i, c[i])))
-        .filter(|(_, v)| *v != 0.0)
-        .map(|(k, v)| (k, v * scale[k]))
-        .collect()
 }
 
 impl Tangent {
@@ -62,7 +57,7 @@ impl Tangent {
     /// to the parameters `wrt` need.
     pub fn new(sys: &System<'_>, wrt: &[usize]) -> Tangent {
         let structure = sys.structure;
-        let ones = vec![1.0; sys.n];
+        let n = sys.n;
         let mut active: Vec<Active> = Vec::new();
         let mut others = Vec::new();
         let mut slot = vec![None; structure.components.len()];
@@ -75,8 +70,7 @@ impl Tangent {
                 };
                 active.push(Active {
                     row: c.row.clone(),
-                    b: nonzero(&c.row, &ones),
-                    g: nonzero(&c.row, &sys.minv),
+                    b: c.row.dense(n),
                     power,
                     usages: Vec::new(),
                 });
@@ -104,16 +98,34 @@ impl Tangent {
                 }
             }
         }
+        let w_rows = active.len().next_multiple_of(2);
+        let ext_cols = 2 * n + w_rows;
+        let mut ext = vec![0.0; n * ext_cols];
+        for (i, row) in ext.chunks_exact_mut(ext_cols).enumerate() {
+            row[..2 * n].copy_from_slice(&sys.a_lin[i * 2 * n..(i + 1) * 2 * n]);
+            for (a, comp) in active.iter().enumerate() {
+                row[2 * n + a] = -sys.minv[i] * comp.b[i];
+            }
+        }
         Tangent {
             width: wrt.len().next_multiple_of(4),
             active,
+            ext,
+            ext_cols,
+            w_rows,
             others,
         }
     }
 
+    /// Scratch length that [`Self::apply`] needs: the rows of W.
+    pub fn scratch_len(&self) -> usize {
+        self.w_rows * self.width
+    }
+
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
     /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows).
-    /// `w` is scratch of length [`Self::width`].
+    /// `w` is scratch of [`Self::scratch_len`], zero-filled once by the
+    /// caller (its padding row is never written).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn apply<M: Madd, D: Dim>(
@@ -131,44 +143,23 @@ impl Tangent {
         let (q, v) = y[..2 * n].split_at(n);
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
-        let w = &mut w[..width];
 
-        // [−M⁻¹K | −M⁻¹C] Y, sixteen (then eight, four) columns at a time.
-        for (arow, out) in sys
-            .a_lin
-            .chunks_exact(2 * n)
-            .zip(dacc.chunks_exact_mut(width))
-        {
-            let mut c0 = 0;
-            while c0 + 16 <= width {
-                row_times::<M, 16>(arow, sy, width, c0, out);
-                c0 += 16;
-            }
-            if c0 + 8 <= width {
-                row_times::<M, 8>(arow, sy, width, c0, out);
-                c0 += 8;
-            }
-            if c0 < width {
-                row_times::<M, 4>(arow, sy, width, c0, out);
-            }
-        }
-
-        // − M⁻¹B_iᵀ w_i per component.
-        for comp in &self.active {
+        // W: one row per active component.
+        for (comp, wrow) in self.active.iter().zip(w.chunks_exact_mut(width)) {
             let d = comp.row.dot(q);
-            let mut any = false;
-            w.fill(0.0);
-            if let Some((a, m)) = comp.power {
-                let (_, slope) = power_law(a, m, d);
-                if slope != 0.0 {
-                    for &(k, b) in &comp.b {
-                        axpy::<M>(slope * b, &sy[k * width..(k + 1) * width], w);
-                    }
-                    any = true;
-                }
+            let slope = match comp.power {
+                Some((a, m)) => power_law(a, m, d).1,
+                None => 0.0,
+            };
+            if slope != 0.0 {
+                // f'(δ) B_i Y_q.
+                times_columns::<M>(&comp.b[..n], &[], &sy[..n * width], &[], width, wrow);
+                wrow.iter_mut().for_each(|x| *x *= slope);
+            } else {
+                wrow.fill(0.0);
             }
             for &(col, usage) in &comp.usages {
-                let f = match usage {
+                wrow[col] += match usage {
                     Usage::Stiffness(_) => d,
                     Usage::Damping(_) => comp.row.dot(v),
                     Usage::PowerCoefficient(_) => {
@@ -181,14 +172,17 @@ impl Tangent {
                     }
                     Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => 0.0,
                 };
-                w[col] += f;
-                any |= f != 0.0;
             }
-            if any {
-                for &(k, g) in &comp.g {
-                    axpy::<M>(-g, w, &mut dacc[k * width..(k + 1) * width]);
-                }
-            }
+        }
+
+        // [−M⁻¹K | −M⁻¹C | −M⁻¹Bᵀ] [Y; W].
+        for (row, out) in self
+            .ext
+            .chunks_exact(self.ext_cols)
+            .zip(dacc.chunks_exact_mut(width))
+        {
+            let (ry, rw) = row.split_at(2 * n);
+            times_columns::<M>(ry, rw, sy, w, width, out);
         }
 
         for &(col, usage) in &self.others {
@@ -218,28 +212,68 @@ impl Tangent {
     }
 }
 
-/// `out[c0..c0+W] = Σ_j arow[j] · sy[j][c0..c0+W]`, rows of `sy` `width`
-/// long, two rows at a time in separate accumulators so that the loop is
-/// not latency-bound.
+/// `out = a · X + b · Z` for row vectors a, b and matrices X, Z with rows
+/// `width` long (`width` a multiple of four), sixteen (then eight, four)
+/// columns at a time.
+#[inline(always)]
+fn times_columns<M: Madd>(
+    a: &[f64],
+    b: &[f64],
+    x: &[f64],
+    z: &[f64],
+    width: usize,
+    out: &mut [f64],
+) {
+    let mut c0 = 0;
+    while c0 + 16 <= width {
+        row_times::<M, 16>(a, b, x, z, width, c0, out);
+        c0 += 16;
+    }
+    if c0 + 8 <= width {
+        row_times::<M, 8>(a, b, x, z, width, c0, out);
+        c0 += 8;
+    }
+    if c0 < width {
+        row_times::<M, 4>(a, b, x, z, width, c0, out);
+    }
+}
+
+/// `out[c0..c0+W] = Σ_j a_j x[j][c0..c0+W] + Σ_j b_j z[j][c0..c0+W]`, two
+/// rows at a time in separate accumulators so that the loop is not
+/// latency-bound. `a` and `b` have even lengths or `b` is empty.
 #[inline(always)]
 fn row_times<M: Madd, const W: usize>(
-    arow: &[f64],
-    sy: &[f64],
+    a: &[f64],
+    b: &[f64],
+    x: &[f64],
+    z: &[f64],
     width: usize,
     c0: usize,
     out: &mut [f64],
 ) {
-    assert!(c0 + W <= width && arow.len() % 2 == 0);
+    assert!(c0 + W <= width);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
-    for (a, rows) in arow.chunks_exact(2).zip(sy.chunks_exact(2 * width)) {
-        let (x0, x1) = (&rows[c0..c0 + W], &rows[width + c0..width + c0 + W]);
-        for k in 0..W {
-            s[k] = M::madd(a[0], x0[k], s[k]);
-            t[k] = M::madd(a[1], x1[k], t[k]);
+    for (coef, rows) in [(a, x), (b, z)] {
+        let mut pairs = coef.chunks_exact(2);
+        let mut blocks = rows.chunks_exact(2 * width);
+        for (c, r) in (&mut pairs).zip(&mut blocks) {
+            let (x0, x1) = (&r[c0..c0 + W], &r[width + c0..width + c0 + W]);
+            for k in 0..W {
+                s[k] = M::madd(c[0], x0[k], s[k]);
+                t[k] = M::madd(c[1], x1[k], t[k]);
+            }
+        }
+        if let [c] = pairs.remainder() {
+            let r = &rows[(coef.len() - 1) * width..coef.len() * width];
+            let x0 = &r[c0..c0 + W];
+            for k in 0..W {
+                s[k] = M::madd(*c, x0[k], s[k]);
+            }
         }
     }
+    let o = &mut out[c0..c0 + W];
     for k in 0..W {
-        out[c0 + k] = s[k] + t[k];
+        o[k] = s[k] + t[k];
     }
 }
 
@@ -252,14 +286,5 @@ fn exponent_derivative(a: f64, m: f64, d: f64) -> f64 {
         0.0
     } else {
         a * power_law(1.0, m, d).0 * d.abs().ln()
-    }
-}
-
-/// `y += alpha · x` (equal lengths).
-#[inline(always)]
-fn axpy<M: Madd>(alpha: f64, x: &[f64], y: &mut [f64]) {
-    let x = &x[..y.len()];
-    for i in 0..y.len() {
-        y[i] = M::madd(alpha, x[i], y[i]);
     }
 }
