@@ -15,7 +15,7 @@
 //! columns start at zero and stay zero.
 use super::dim::Dim;
 use super::madd::Madd;
-use super::structure::{Row, Usage};
+use super::structure::Usage;
 use super::system::{power_law, System};
 use crate::model::Law;
 
@@ -23,8 +23,6 @@ use crate::model::Law;
 /// part: a power-law spring, or a component holding an identified parameter.
 #[derive(Debug, Clone)]
 struct Active {
-    /// `δ_i = B_i q`.
-    row: Row,
     /// `B_i`, dense (n).
     b: Vec<f64>,
     /// `(a, m)` of a power-law spring.
@@ -69,7 +67,6 @@ impl Tangent {
                     _ => None,
                 };
                 active.push(Active {
-                    row: c.row.clone(),
                     b: c.row.dense(n),
                     power,
                     usages: Vec::new(),
@@ -146,14 +143,15 @@ impl Tangent {
 
         // W: one row per active component.
         for (comp, wrow) in self.active.iter().zip(w.chunks_exact_mut(width)) {
-            let d = comp.row.dot(q);
+            let b = &comp.b[..n];
+            let d = dot::<M>(b, q);
             let slope = match comp.power {
                 Some((a, m)) => power_law(a, m, d).1,
                 None => 0.0,
             };
             if slope != 0.0 {
                 // f'(δ) B_i Y_q.
-                times_columns::<M>(&comp.b[..n], &[], &sy[..n * width], &[], width, wrow);
+                times_columns::<M>(b, &[], &sy[..n * width], &[], width, wrow);
                 wrow.iter_mut().for_each(|x| *x *= slope);
             } else {
                 wrow.fill(0.0);
@@ -161,7 +159,7 @@ impl Tangent {
             for &(col, usage) in &comp.usages {
                 wrow[col] += match usage {
                     Usage::Stiffness(_) => d,
-                    Usage::Damping(_) => comp.row.dot(v),
+                    Usage::Damping(_) => dot::<M>(b, v),
                     Usage::PowerCoefficient(_) => {
                         let (_, m) = comp.power.unwrap_or((0.0, 1.0));
                         power_law(1.0, m, d).0
@@ -212,6 +210,17 @@ impl Tangent {
     }
 }
 
+/// `a · x` for a of even length, in two partial sums.
+#[inline(always)]
+fn dot<M: Madd>(a: &[f64], x: &[f64]) -> f64 {
+    let (mut s, mut t) = (0.0, 0.0);
+    for (a, x) in a.chunks_exact(2).zip(x.chunks_exact(2)) {
+        s = M::madd(a[0], x[0], s);
+        t = M::madd(a[1], x[1], t);
+    }
+    s + t
+}
+
 /// `out = a · X + b · Z` for row vectors a, b and matrices X, Z with rows
 /// `width` long (`width` a multiple of four), sixteen (then eight, four)
 /// columns at a time.
@@ -254,9 +263,13 @@ fn row_times<M: Madd, const W: usize>(
     assert!(c0 + W <= width);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
     for (coef, rows) in [(a, x), (b, z)] {
+        // Two rows at a time, walking down `rows` (`split_at`, not
+        // `chunks_exact`, which would divide by the run-time width).
         let mut pairs = coef.chunks_exact(2);
-        let mut blocks = rows.chunks_exact(2 * width);
-        for (c, r) in (&mut pairs).zip(&mut blocks) {
+        let mut rest = rows;
+        for c in &mut pairs {
+            let (r, tail) = rest.split_at(2 * width);
+            rest = tail;
             let (x0, x1) = (&r[c0..c0 + W], &r[width + c0..width + c0 + W]);
             for k in 0..W {
                 s[k] = M::madd(c[0], x0[k], s[k]);
@@ -264,8 +277,7 @@ fn row_times<M: Madd, const W: usize>(
             }
         }
         if let [c] = pairs.remainder() {
-            let r = &rows[(coef.len() - 1) * width..coef.len() * width];
-            let x0 = &r[c0..c0 + W];
+            let x0 = &rest[c0..c0 + W];
             for k in 0..W {
                 s[k] = M::madd(*c, x0[k], s[k]);
             }
