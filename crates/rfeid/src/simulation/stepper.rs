@@ -124,7 +124,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
 
     /// The scratch the sensitivities need (see [`Tangent::scratch_len`]).
     pub fn scratch_len(&self) -> usize {
-        self.tangent.scratch_len()
+        self.tangent.scratch_len(self.sys.n)
     }
 
     /// `F(t, y)` into stage 0, and its sensitivity if wanted.

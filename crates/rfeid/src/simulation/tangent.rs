@@ -1,14 +1,16 @@
 //! The forward sensitivity equation's right-hand side (eq. 27–28 need its
-//! solution): for `Y = ∂y/∂x`,
+//! solution): for `Y = [Y_q; Y_v] = ∂y/∂x`,
 //!
-//! `∂q̈/∂x = [−M⁻¹K | −M⁻¹C] Y − Σ_i M⁻¹B_iᵀ w_i + (mass, inertia, load terms)`,
+//! `∂q̈/∂x = J Y + E`,  `J = [−M⁻¹(K + Σ_p f_p'(δ_p) B_pᵀB_p) | −M⁻¹C]`,
 //!
-//! where for each component i that is a power-law spring or holds an
-//! identified parameter, `w_i = f_i'(δ_i) B_i Y_q + ∂f_i/∂x` is a row over
-//! the parameters (eq. 2–6: f_i = a δ|δ|^(m−1) + c δ̇, or k δ + c δ̇).
-//! With these rows stacked as W, the whole right-hand side is one dense
-//! product `[−M⁻¹K | −M⁻¹C | −M⁻¹Bᵀ] [Y; W]`, whose inner loop is a
-//! contiguous multiply–add over the parameters.
+//! J being the Jacobian of the acceleration: the linear part plus each
+//! power-law spring p's slope (eq. 2–6), a rank-one update per spring and
+//! stage. E is the explicit dependence on the parameters: column x holds
+//! `−M⁻¹B_iᵀ ∂f_i/∂x` for the stiffness, damping and power-law coefficients
+//! of each component i that x enters, plus the mass, inertia and load terms.
+//! E is built parameter by parameter (contiguous n-vectors) and added as
+//! the product J Y is stored; that product's inner loop is a contiguous
+//! multiply–add over the parameters.
 //!
 //! Rows of Y and of the result hold [`Tangent::width`] columns: r rounded up
 //! to a multiple of four, so the kernels run on whole vectors. The padding
@@ -25,6 +27,8 @@ use crate::model::Law;
 struct Active {
     /// `B_i`, dense (n).
     b: Vec<f64>,
+    /// `−M⁻¹ B_iᵀ`, dense (n).
+    g: Vec<f64>,
     /// `(a, m)` of a power-law spring.
     power: Option<(f64, f64)>,
     /// Identified parameters acting here: (column, usage).
@@ -39,13 +43,6 @@ pub(crate) struct Tangent {
     /// multiple of four.
     pub width: usize,
     active: Vec<Active>,
-    /// `[−M⁻¹K | −M⁻¹C | −M⁻¹B_aᵀ]` over the active components a, n rows of
-    /// [`Self::ext_cols`], row-major: multiplies `[Y; W]`.
-    ext: Vec<f64>,
-    /// 2n plus [`Self::w_rows`].
-    ext_cols: usize,
-    /// Rows of W: the active components rounded up to even.
-    w_rows: usize,
     /// Mass, inertia and amplitude parameters: (column, usage).
     others: Vec<(usize, Usage)>,
 }
@@ -66,8 +63,10 @@ impl Tangent {
                     Law::Power { a, m } => Some((a.eval(&sys.params), m.eval(&sys.params))),
                     _ => None,
                 };
+                let b = c.row.dense(n);
                 active.push(Active {
-                    b: c.row.dense(n),
+                    g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
+                    b,
                     power,
                     usages: Vec::new(),
                 });
@@ -95,34 +94,22 @@ impl Tangent {
                 }
             }
         }
-        let w_rows = active.len().next_multiple_of(2);
-        let ext_cols = 2 * n + w_rows;
-        let mut ext = vec![0.0; n * ext_cols];
-        for (i, row) in ext.chunks_exact_mut(ext_cols).enumerate() {
-            row[..2 * n].copy_from_slice(&sys.a_lin[i * 2 * n..(i + 1) * 2 * n]);
-            for (a, comp) in active.iter().enumerate() {
-                row[2 * n + a] = -sys.minv[i] * comp.b[i];
-            }
-        }
         Tangent {
             width: wrt.len().next_multiple_of(4),
             active,
-            ext,
-            ext_cols,
-            w_rows,
             others,
         }
     }
 
-    /// Scratch length that [`Self::apply`] needs: the rows of W.
-    pub fn scratch_len(&self) -> usize {
-        self.w_rows * self.width
+    /// Scratch length that [`Self::apply`] needs for n coordinates: J
+    /// (n × 2n) and Eᵀ (width × n).
+    pub fn scratch_len(&self, n: usize) -> usize {
+        2 * n * n + self.width * n
     }
 
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
     /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows).
-    /// `w` is scratch of [`Self::scratch_len`], zero-filled once by the
-    /// caller (its padding row is never written).
+    /// `scratch` has [`Self::scratch_len`].
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn apply<M: Madd, D: Dim>(
@@ -133,31 +120,33 @@ impl Tangent {
         acc: &[f64],
         sy: &[f64],
         dacc: &mut [f64],
-        w: &mut [f64],
+        scratch: &mut [f64],
     ) {
         let n = D::n(sys.n);
         let width = self.width;
         let (q, v) = y[..2 * n].split_at(n);
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
+        let (jac, et) = scratch.split_at_mut(2 * n * n);
+        let et = &mut et[..width * n];
 
-        // W: one row per active component.
-        for (comp, wrow) in self.active.iter().zip(w.chunks_exact_mut(width)) {
-            let b = &comp.b[..n];
+        // J: the linear part, plus f'(δ) (−M⁻¹B_pᵀ) B_p per power-law spring.
+        // Eᵀ: per parameter, −M⁻¹B_iᵀ ∂f_i/∂x over the components it enters.
+        jac.copy_from_slice(&sys.a_lin[..2 * n * n]);
+        et.fill(0.0);
+        for comp in &self.active {
+            let (b, g) = (&comp.b[..n], &comp.g[..n]);
             let d = dot::<M>(b, q);
-            let slope = match comp.power {
-                Some((a, m)) => power_law(a, m, d).1,
-                None => 0.0,
-            };
-            if slope != 0.0 {
-                // f'(δ) B_i Y_q.
-                times_columns::<M>(b, &[], &sy[..n * width], &[], width, wrow);
-                wrow.iter_mut().for_each(|x| *x *= slope);
-            } else {
-                wrow.fill(0.0);
+            if let Some((a, m)) = comp.power {
+                let slope = power_law(a, m, d).1;
+                if slope != 0.0 {
+                    for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
+                        axpy::<M>(slope * g[k], b, &mut row[..n]);
+                    }
+                }
             }
             for &(col, usage) in &comp.usages {
-                wrow[col] += match usage {
+                let f = match usage {
                     Usage::Stiffness(_) => d,
                     Usage::Damping(_) => dot::<M>(b, v),
                     Usage::PowerCoefficient(_) => {
@@ -170,17 +159,17 @@ impl Tangent {
                     }
                     Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => 0.0,
                 };
+                axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
         }
 
-        // [−M⁻¹K | −M⁻¹C | −M⁻¹Bᵀ] [Y; W].
-        for (row, out) in self
-            .ext
-            .chunks_exact(self.ext_cols)
+        // J Y + E, row by row.
+        for (k, (row, out)) in jac
+            .chunks_exact(2 * n)
             .zip(dacc.chunks_exact_mut(width))
+            .enumerate()
         {
-            let (ry, rw) = row.split_at(2 * n);
-            times_columns::<M>(ry, rw, sy, w, width, out);
+            times_columns::<M>(row, sy, (et, n, k), width, out);
         }
 
         for &(col, usage) in &self.others {
@@ -221,71 +210,72 @@ fn dot<M: Madd>(a: &[f64], x: &[f64]) -> f64 {
     s + t
 }
 
-/// `out = a · X + b · Z` for row vectors a, b and matrices X, Z with rows
-/// `width` long (`width` a multiple of four), sixteen (then eight, four)
-/// columns at a time.
+/// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a (even length) and a
+/// matrix X with rows `width` long (a multiple of four), sixteen (then
+/// eight, four) columns at a time; `(et, n, k)` is Eᵀ with its row length
+/// and the row k of E wanted.
 #[inline(always)]
 fn times_columns<M: Madd>(
     a: &[f64],
-    b: &[f64],
     x: &[f64],
-    z: &[f64],
+    e: (&[f64], usize, usize),
     width: usize,
     out: &mut [f64],
 ) {
     let mut c0 = 0;
     while c0 + 16 <= width {
-        row_times::<M, 16>(a, b, x, z, width, c0, out);
+        row_times::<M, 16>(a, x, e, width, c0, out);
         c0 += 16;
     }
     if c0 + 8 <= width {
-        row_times::<M, 8>(a, b, x, z, width, c0, out);
+        row_times::<M, 8>(a, x, e, width, c0, out);
         c0 += 8;
     }
     if c0 < width {
-        row_times::<M, 4>(a, b, x, z, width, c0, out);
+        row_times::<M, 4>(a, x, e, width, c0, out);
     }
 }
 
-/// `out[c0..c0+W] = Σ_j a_j x[j][c0..c0+W] + Σ_j b_j z[j][c0..c0+W]`, two
-/// rows at a time in separate accumulators so that the loop is not
-/// latency-bound. `a` and `b` have even lengths or `b` is empty.
+/// `out[c0..c0+W]` of [`times_columns`], two rows of X at a time in separate
+/// accumulators so that the loop is not latency-bound.
 #[inline(always)]
 fn row_times<M: Madd, const W: usize>(
     a: &[f64],
-    b: &[f64],
     x: &[f64],
-    z: &[f64],
+    (et, n, k): (&[f64], usize, usize),
     width: usize,
     c0: usize,
     out: &mut [f64],
 ) {
     assert!(c0 + W <= width);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
-    for (coef, rows) in [(a, x), (b, z)] {
-        // Two rows at a time, walking down `rows` (`split_at`, not
-        // `chunks_exact`, which would divide by the run-time width).
-        let mut pairs = coef.chunks_exact(2);
-        let mut rest = rows;
-        for c in &mut pairs {
-            let (r, tail) = rest.split_at(2 * width);
-            rest = tail;
-            let (x0, x1) = (&r[c0..c0 + W], &r[width + c0..width + c0 + W]);
-            for k in 0..W {
-                s[k] = M::madd(c[0], x0[k], s[k]);
-                t[k] = M::madd(c[1], x1[k], t[k]);
-            }
-        }
-        if let [c] = pairs.remainder() {
-            let x0 = &rest[c0..c0 + W];
-            for k in 0..W {
-                s[k] = M::madd(*c, x0[k], s[k]);
-            }
+    for c in 0..W {
+        s[c] = et[(c0 + c) * n + k];
+    }
+    // Walk down `x` with `split_at`, not `chunks_exact`, which would divide
+    // by the run-time width.
+    let mut rest = x;
+    for c in a.chunks_exact(2) {
+        let (r, tail) = rest.split_at(2 * width);
+        rest = tail;
+        let (x0, x1) = (&r[c0..c0 + W], &r[width + c0..width + c0 + W]);
+        for q in 0..W {
+            s[q] = M::madd(c[0], x0[q], s[q]);
+            t[q] = M::madd(c[1], x1[q], t[q]);
         }
     }
     let o = &mut out[c0..c0 + W];
-    for k in 0..W {
-        o[k] = s[k] + t[k];
+    for q in 0..W {
+        o[q] = s[q] + t[q];
+    }
+}
+
+/// `y += alpha · x` (x at least as long as y).
+#[inline(always)]
+fn axpy<M: Madd>(alpha: f64, x: &[f64], y: &mut [f64]) {
+    let x = &x[..y.len()];
+    for i in 0..y.len() {
+        y[i] = M::madd(alpha, x[i], y[i]);
     }
 }
 
