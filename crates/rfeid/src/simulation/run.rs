@@ -361,3 +361,66 @@ fn record_sens(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::model_file::load_model;
+    use std::path::Path;
+
+    /// The response and sensitivities of the knee–column example through the
+    /// kernel variant `run`.
+    fn knee_column_with(
+        run: impl Fn(&Simulator<'_>, &[f64], &[usize], &mut Workspace, &mut Response, &mut Vec<f64>),
+    ) -> (Vec<f64>, Vec<f64>) {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml");
+        let model = load_model(&path).expect("the example loads");
+        let sim = Simulator::new(&model);
+        let (params, wrt) = (model.nominal(), model.identified());
+        let (mut ws, mut out) = (Workspace::default(), sim.response_buffer());
+        let mut sens = vec![0.0; out.values.len() * wrt.len()];
+        run(&sim, &params, &wrt, &mut ws, &mut out, &mut sens);
+        (out.values, sens)
+    }
+
+    fn relative_rms_difference(a: &[f64], b: &[f64]) -> f64 {
+        let diff: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
+        let norm: f64 = a.iter().map(|x| x * x).sum();
+        (diff / norm).sqrt()
+    }
+
+    #[test]
+    fn fixed_size_kernels_equal_the_run_time_size_ones_bit_for_bit() {
+        let fixed = knee_column_with(|sim, p, wrt, ws, out, s| {
+            sim.integrate_generic::<Separate, Fixed<12>>(p, wrt, ws, out, Some(s))
+                .expect("runs")
+        });
+        let dynamic = knee_column_with(|sim, p, wrt, ws, out, s| {
+            sim.integrate_generic::<Separate, Dynamic>(p, wrt, ws, out, Some(s))
+                .expect("runs")
+        });
+        assert!(fixed == dynamic);
+    }
+
+    #[test]
+    fn fused_kernels_agree_with_the_portable_ones_to_rounding() {
+        let portable = knee_column_with(|sim, p, wrt, ws, out, s| {
+            sim.integrate_generic::<Separate, Dynamic>(p, wrt, ws, out, Some(s))
+                .expect("runs")
+        });
+        // Whatever the dispatch picks on this machine (AVX2 + FMA, n fixed).
+        let dispatched = knee_column_with(|sim, p, wrt, ws, out, s| {
+            sim.integrate(p, wrt, ws, out, Some(s)).expect("runs")
+        });
+        let response = relative_rms_difference(&portable.0, &dispatched.0);
+        let sensitivities = relative_rms_difference(&portable.1, &dispatched.1);
+        // Measured: 1.0e-14 (response) and 1.3e-14 (sensitivities), the
+        // rounding differences of one versus two roundings per multiply–add.
+        assert!(response < 1e-10, "response differs by {response:e}");
+        assert!(
+            sensitivities < 1e-10,
+            "sensitivities differ by {sensitivities:e}"
+        );
+    }
+}
