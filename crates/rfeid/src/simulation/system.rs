@@ -174,10 +174,10 @@ impl<'a> System<'a> {
         let column = |i: usize, j: usize| -> f64 {
             if j < 2 * n {
                 a_lin[i * 2 * n + j]
-            } else if j < 2 * n + power.len() {
-                -power[j - 2 * n].row.dense(n)[i] * minv[i]
             } else if j < 2 * n + slots {
-                0.0
+                // −M⁻¹ B_kᵀ for power-law slot k (zero for the padding).
+                let k = j - 2 * n;
+                -power_b[((k / 4) * n + i) * 4 + k % 4] * minv[i]
             } else {
                 minv_loads[j - 2 * n - slots][i]
             }
