@@ -233,6 +233,11 @@ impl<'m> Simulator<'m> {
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
+        if r == 0 {
+            // Sensitivities to nothing: an empty matrix, and a plain run.
+            sens = None;
+        }
+        let wrt = if sens.is_some() { wrt } else { &[] };
         let st = Stepper::<M, D>::new(&sys, tab, wrt, self.integrator.locate_crossings);
         let with_sens = sens.is_some();
         let (width, scratch) = match with_sens {
@@ -401,6 +406,21 @@ mod tests {
                 .expect("runs")
         });
         assert!(fixed == dynamic);
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the CPU supports AVX2 and FMA, checked just above.
+            let fused = |fixed: bool| {
+                knee_column_with(|sim, p, wrt, ws, out, s| unsafe {
+                    match fixed {
+                        true => sim.integrate_avx2_fma::<Fixed<12>>(p, wrt, ws, out, Some(s)),
+                        false => sim.integrate_avx2_fma::<Dynamic>(p, wrt, ws, out, Some(s)),
+                    }
+                    .expect("runs")
+                })
+            };
+            assert!(fused(true) == fused(false));
+        }
     }
 
     #[test]
@@ -409,7 +429,9 @@ mod tests {
             sim.integrate_generic::<Separate, Dynamic>(p, wrt, ws, out, Some(s))
                 .expect("runs")
         });
-        // Whatever the dispatch picks on this machine (AVX2 + FMA, n fixed).
+        // Whatever the dispatch picks on this machine: AVX2 + FMA with n
+        // fixed where the CPU has them (otherwise the portable path itself,
+        // and the comparison is trivially met).
         let dispatched = knee_column_with(|sim, p, wrt, ws, out, s| {
             sim.integrate(p, wrt, ws, out, Some(s)).expect("runs")
         });

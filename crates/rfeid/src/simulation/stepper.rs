@@ -104,7 +104,9 @@ fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
 }
 
 impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
-    /// A stepper for one run (allocates its small coefficient lists once).
+    /// A stepper for one run, with the sensitivities to `wrt` (none if
+    /// empty): allocates its coefficient lists and the sensitivities'
+    /// component data once.
     pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &[usize], locate: bool) -> Self {
         Stepper {
             sys,
@@ -282,9 +284,9 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, eight elements
-/// at a time with the sum over the stages in registers (one pass over the
-/// output, not one per stage).
+/// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, thirty-two (then
+/// eight, one) elements at a time with the sum over the stages in registers
+/// (one pass over the output, not one per stage).
 #[inline(always)]
 fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
     let mut e0 = 0;

@@ -57,7 +57,8 @@ pub struct System<'a> {
     pub a_lin: Vec<f64>,
     /// `[−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L]` in 4-row panels
     /// (`[panel][column][4]`, zero-padded): one product with
-    /// `[q; q̇; f_p; P]` gives q̈ (eq. 1), accumulators in registers.
+    /// `[q; q̇; f_p; P]`, started from the weight's `M⁻¹ × weight`
+    /// ([`Self::gravity_panels`]), gives q̈ (eq. 1), accumulators in registers.
     a_ext: Vec<f64>,
     /// Columns of `a_ext`: 2n, then one per power-law slot, then one per
     /// excitation.

@@ -5,12 +5,12 @@
 //!
 //! J being the Jacobian of the acceleration: the linear part plus each
 //! power-law spring p's slope (eq. 2–6), a rank-one update per spring and
-//! stage. E is the explicit dependence on the parameters: column x holds
-//! `−M⁻¹B_iᵀ ∂f_i/∂x` for the stiffness, damping and power-law coefficients
-//! of each component i that x enters, plus the mass, inertia and load terms.
-//! E is built parameter by parameter (contiguous n-vectors) and added as
-//! the product J Y is stored; that product's inner loop is a contiguous
-//! multiply–add over the parameters.
+//! stage. E is the explicit dependence on the parameters. Its component
+//! part, `−M⁻¹B_iᵀ ∂f_i/∂x` for the stiffness, damping and power-law
+//! coefficients of each component i that x enters, is built parameter by
+//! parameter (contiguous n-vectors of Eᵀ) and added as the product J Y is
+//! stored, whose inner loop is a contiguous multiply–add over the
+//! parameters; the mass, inertia and load terms are added after it.
 //!
 //! Rows of Y and of the result hold [`Tangent::width`] columns: r rounded up
 //! to a multiple of four, so the kernels run on whole vectors. The padding
@@ -53,47 +53,50 @@ impl Tangent {
     pub fn new(sys: &System<'_>, wrt: &[usize]) -> Tangent {
         let structure = sys.structure;
         let n = sys.n;
-        let mut active: Vec<Active> = Vec::new();
-        let mut others = Vec::new();
-        let mut slot = vec![None; structure.components.len()];
-        let mut activate = |i: usize, active: &mut Vec<Active>| -> usize {
-            *slot[i].get_or_insert_with(|| {
-                let c = &structure.components[i];
-                let power = match c.law {
-                    Law::Power { a, m } => Some((a.eval(&sys.params), m.eval(&sys.params))),
-                    _ => None,
-                };
-                let b = c.row.dense(n);
-                active.push(Active {
-                    g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
-                    b,
-                    power,
-                    usages: Vec::new(),
-                });
-                active.len() - 1
-            })
-        };
-        for (i, c) in structure.components.iter().enumerate() {
-            if matches!(c.law, Law::Power { .. }) {
-                activate(i, &mut active);
-            }
+        if wrt.is_empty() {
+            return Tangent {
+                width: 0,
+                active: Vec::new(),
+                others: Vec::new(),
+            };
         }
+        // Usages per component first, so that the active components come in
+        // component order whatever the order of `wrt`: a column's explicit
+        // terms are then summed in the same order however it is asked for.
+        let mut usages = vec![Vec::new(); structure.components.len()];
+        let mut others = Vec::new();
         for (col, &p) in wrt.iter().enumerate() {
             for &usage in &structure.usages[p] {
                 match usage {
                     Usage::Stiffness(i)
                     | Usage::Damping(i)
                     | Usage::PowerCoefficient(i)
-                    | Usage::PowerExponent(i) => {
-                        let k = activate(i, &mut active);
-                        active[k].usages.push((col, usage));
-                    }
+                    | Usage::PowerExponent(i) => usages[i].push((col, usage)),
                     Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
                         others.push((col, usage))
                     }
                 }
             }
         }
+        let active = structure
+            .components
+            .iter()
+            .zip(usages)
+            .filter(|(c, u)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
+            .map(|(c, usages)| {
+                let power = match c.law {
+                    Law::Power { a, m } => Some((a.eval(&sys.params), m.eval(&sys.params))),
+                    _ => None,
+                };
+                let b = c.row.dense(n);
+                Active {
+                    g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
+                    b,
+                    power,
+                    usages,
+                }
+            })
+            .collect();
         Tangent {
             width: wrt.len().next_multiple_of(4),
             active,
@@ -248,7 +251,8 @@ fn row_times<M: Madd, const W: usize>(
     out: &mut [f64],
 ) {
     // Every row read below (a.len() of them) lies inside x.
-    assert!(c0 + W <= width && a.len() % 2 == 0 && a.len() * width <= x.len());
+    let rows_fit = a.len().checked_mul(width).is_some_and(|len| len <= x.len());
+    assert!(c0 + W <= width && a.len() % 2 == 0 && rows_fit);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
     for c in 0..W {
         s[c] = et[(c0 + c) * n + k];
@@ -257,7 +261,7 @@ fn row_times<M: Madd, const W: usize>(
         let r0 = 2 * j * width + c0;
         let r1 = r0 + width;
         // SAFETY: r1 + W ≤ (2j + 2)·width ≤ a.len()·width ≤ x.len() (assert
-        // above, with c0 + W ≤ width). Checked indexing here costs a third
+        // above, with c0 + W ≤ width; the product does not overflow). Checked indexing here costs a third
         // of the loop's instructions.
         let (x0, x1) = unsafe { (x.get_unchecked(r0..r0 + W), x.get_unchecked(r1..r1 + W)) };
         for q in 0..W {
