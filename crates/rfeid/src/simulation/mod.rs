@@ -5,6 +5,7 @@ pub mod equilibrium;
 mod madd;
 pub mod modal;
 pub mod run;
+mod sines;
 mod stepper;
 pub mod structure;
 pub mod system;

@@ -238,13 +238,15 @@ impl<'m> Simulator<'m> {
             sens = None;
         }
         let wrt = if sens.is_some() { wrt } else { &[] };
-        let st = Stepper::<M, D>::new(&sys, tab, wrt, self.integrator.locate_crossings);
+        let substeps = self.integrator.substeps;
+        let h = 1.0 / (sampling.sample_rate * substeps as f64);
+        let st = Stepper::<M, D>::new(&sys, tab, h, wrt, self.integrator.locate_crossings);
         let with_sens = sens.is_some();
         let (width, scratch) = match with_sens {
             true => (st.width(), st.scratch_len()),
             false => (0, 0),
         };
-        ws.prepare(&sys, tab.stages(), width, scratch);
+        ws.prepare(&sys, tab.stages(), (width, scratch), st.sine_terms());
 
         // Initial state: rest, or static equilibrium under gravity.
         let mut q0 = vec![0.0; n];
@@ -261,8 +263,6 @@ impl<'m> Simulator<'m> {
             }
         }
 
-        let substeps = self.integrator.substeps;
-        let h = 1.0 / (sampling.sample_rate * substeps as f64);
         let total_steps = n_samples.saturating_sub(1) * substeps;
         for step in 0..=total_steps {
             let t = step as f64 * h;

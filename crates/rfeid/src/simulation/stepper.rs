@@ -16,6 +16,7 @@
 //! flow does not depend on where a step is split.
 use super::dim::Dim;
 use super::madd::Madd;
+use super::sines::StageSines;
 use super::system::System;
 use super::tableau::Tableau;
 use super::tangent::Tangent;
@@ -47,19 +48,22 @@ pub struct Workspace {
     power_forces: Vec<f64>,
     forces: Vec<f64>,
     forces_time: f64,
+    /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
+    phases: Vec<(f64, f64)>,
+    phases_time: f64,
     crossings: Vec<f64>,
 }
 
 impl Workspace {
     /// Sizes the buffers for the equations `sys`, a method of `stages` stages,
-    /// sensitivity rows `width` long (zero without sensitivities) and the
-    /// sensitivities' `scratch`; zero-fills them.
+    /// sensitivity rows `width` long (zero without sensitivities), the
+    /// sensitivities' `scratch` and `sine_terms` phases; zero-fills them.
     pub(crate) fn prepare(
         &mut self,
         sys: &System<'_>,
         stages: usize,
-        width: usize,
-        scratch: usize,
+        (width, scratch): (usize, usize),
+        sine_terms: usize,
     ) {
         let n = sys.n;
         let resize = |v: &mut Vec<f64>, len: usize| {
@@ -76,7 +80,10 @@ impl Workspace {
         resize(&mut self.scratch, scratch);
         resize(&mut self.forces, sys.minv_loads.len());
         resize(&mut self.power_forces, sys.scratch_len());
+        self.phases.clear();
+        self.phases.resize(sine_terms, (0.0, 1.0));
         self.forces_time = f64::NAN;
+        self.phases_time = f64::NAN;
         self.crossings.clear();
     }
 }
@@ -86,6 +93,8 @@ pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     sys: &'a System<'a>,
     tab: &'a Tableau,
     tangent: Tangent,
+    /// The excitation at the stages by angle addition, when it is all sines.
+    sines: Option<StageSines>,
     locate: bool,
     /// The nonzero `a_ij` of each stage, as (j, a_ij).
     a_nz: Vec<Vec<(usize, f64)>>,
@@ -104,14 +113,15 @@ fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
 }
 
 impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
-    /// A stepper for one run, with the sensitivities to `wrt` (none if
-    /// empty): allocates its coefficient lists and the sensitivities'
-    /// component data once.
-    pub fn new(sys: &'a System<'a>, tab: &'a Tableau, wrt: &[usize], locate: bool) -> Self {
+    /// A stepper for one run with steps h, with the sensitivities to `wrt`
+    /// (none if empty): allocates its coefficient lists, the sine rotations
+    /// and the sensitivities' component data once.
+    pub fn new(sys: &'a System<'a>, tab: &'a Tableau, h: f64, wrt: &[usize], locate: bool) -> Self {
         Stepper {
             sys,
             tab,
             tangent: Tangent::new(sys, wrt),
+            sines: StageSines::new(sys.model, &sys.params, tab.c, h),
             locate,
             a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
             b_nz: nonzero(tab.b),
@@ -122,6 +132,11 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// The length of a sensitivity row (see [`Tangent::width`]).
     pub fn width(&self) -> usize {
         self.tangent.width
+    }
+
+    /// The number of sine terms whose phases a step keeps (see [`StageSines`]).
+    pub fn sine_terms(&self) -> usize {
+        self.sines.as_ref().map_or(0, StageSines::len)
     }
 
     /// The scratch the sensitivities need (see [`Tangent::scratch_len`]).
@@ -135,6 +150,10 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let n = D::n(self.sys.n);
         let n2 = 2 * n;
         ws.y_stage[..n2].copy_from_slice(&ws.y);
+        if let Some(sines) = &self.sines {
+            sines.start(t, &mut ws.phases, &mut ws.forces);
+            (ws.forces_time, ws.phases_time) = (t, t);
+        }
         self.derivative(ws, 0, t);
         if with_sens {
             ws.sy_stage.copy_from_slice(&ws.sy);
@@ -217,7 +236,15 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 combine::<M>(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
                 let _ = done;
             }
-            self.derivative(ws, i, t + self.tab.c[i] * h);
+            let ti = t + self.tab.c[i] * h;
+            match &self.sines {
+                Some(sines) if h == sines.h && ws.phases_time == t => {
+                    sines.stage(i, &ws.phases, &mut ws.forces);
+                    ws.forces_time = ti;
+                }
+                _ => {}
+            }
+            self.derivative(ws, i, ti);
         }
         combine::<M>(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
     }
