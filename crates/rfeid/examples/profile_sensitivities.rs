@@ -1,5 +1,6 @@
-//! Runs the knee–column simulation with its 16 sensitivities a few times and
-//! prints the mean time: a target for a profiler (`perf record`).
+//! Runs the knee–column simulation with its 16 sensitivities `REPS` times
+//! (default 10; `PLAIN=1` for the run without sensitivities) and prints the
+//! mean time: a target for a profiler (`valgrind --tool=callgrind`).
 use rfeid::io::model_file::load_model;
 use rfeid::simulation::{Sensitivities, Simulator, Workspace};
 use std::path::Path;
