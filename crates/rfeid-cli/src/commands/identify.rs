@@ -231,6 +231,13 @@ pub fn print_result(model: &Model, r: &IdentificationResult, reference: &str, ti
         r.simulations_with_sensitivities,
         r.failed_simulations
     );
+    for f in &r.failed_starts {
+        println!(
+            "warning: the local search from plan point {} failed and was skipped: {}",
+            f.plan_index + 1,
+            f.reason
+        );
+    }
     if let Some(c) = r.condition_number {
         println!("condition number of the scaled Fisher matrix: {c:.3e}");
     }

@@ -6,6 +6,7 @@ use super::output_error::OutputError;
 use super::plan::{LpTau, PlanError};
 use super::plan_eval::evaluate_plan;
 use super::problem::{sum_of_squares, LeastSquares};
+pub use super::result::StartFailure;
 use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
 use super::termination::{SolveError, StopReason};
 use super::uncertainty::{cramer_rao_normalised, IdentifiabilityWarning, UncertaintySettings};
@@ -100,6 +101,44 @@ pub enum IdentifyError {
     /// The local search could not start.
     #[error("local search: {0}")]
     Solve(String),
+    /// Every local search failed to start; each start's reason, in order.
+    #[error("all {} local searches failed: {}", .0.len(), describe_failures(.0))]
+    AllStartsFailed(Vec<StartFailure>),
+}
+
+fn describe_failures(failures: &[StartFailure]) -> String {
+    failures
+        .iter()
+        .map(|f| format!("start at plan point {}: {}", f.plan_index + 1, f.reason))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Runs `search` from every start, recording a failed start instead of
+/// ending there; the best finished search and the failures, or
+/// [`IdentifyError::AllStartsFailed`] if none finished.
+fn run_starts<S>(
+    starts: &[(usize, f64)],
+    mut search: impl FnMut(usize, usize, f64) -> Result<S, IdentifyError>,
+) -> Result<(Vec<S>, Vec<StartFailure>), IdentifyError> {
+    let mut done = Vec::new();
+    let mut failures = Vec::new();
+    for (k, &(idx, cost)) in starts.iter().enumerate() {
+        match search(k, idx, cost) {
+            Ok(s) => done.push(s),
+            Err(e) => failures.push(StartFailure {
+                plan_index: idx,
+                reason: match e {
+                    IdentifyError::Solve(m) => m,
+                    e => e.to_string(),
+                },
+            }),
+        }
+    }
+    if done.is_empty() {
+        return Err(IdentifyError::AllStartsFailed(failures));
+    }
+    Ok((done, failures))
 }
 
 /// A finished local search, whichever method.
@@ -225,11 +264,16 @@ pub fn identify(
     // 2. Local search from the best few points; keep the best end.
     let t_local = Instant::now();
     let starts = evaluation.best_few(settings.starts);
-    let mut best: Option<Search> = None;
     let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, evaluation.n_failed);
-    for (k, &(idx, cost)) in starts.iter().enumerate() {
+    let (searches, start_failures) = run_starts(&starts, |k, idx, cost| {
         progress.search_started(k, starts.len(), cost);
-        let s = local_search(&problem, settings, plan.point(idx), progress)?;
+        local_search(&problem, settings, plan.point(idx), progress)
+    })?;
+    // A failed start cost one simulation with sensitivities, which failed.
+    sims_sens += start_failures.len();
+    failed += start_failures.len();
+    let mut best: Option<Search> = None;
+    for s in searches {
         sims += s.residual_evals;
         sims_sens += s.jacobian_evals;
         failed += s.failed;
@@ -237,7 +281,9 @@ pub fn identify(
             best = Some(s);
         }
     }
-    let mut best = best.expect("at least one start");
+    let Some(mut best) = best else {
+        return Err(IdentifyError::AllStartsFailed(start_failures));
+    };
     if settings.weighting == Weighting::EstimatedNoise {
         for _ in 0..5 {
             let ssr =
@@ -377,6 +423,7 @@ pub fn identify(
             starts: starts.iter().map(|s| s.0).collect(),
             first_failure,
         },
+        failed_starts: start_failures,
         history: best
             .history
             .iter()
@@ -411,5 +458,56 @@ fn describe(w: &IdentifiabilityWarning, names: &[&str]) -> String {
         IdentifiabilityWarning::IllConditioned { condition_number } => {
             format!("the scaled Fisher matrix is ill-conditioned (condition number {condition_number:.3e})")
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression: one start whose first evaluation failed ended the whole
+    /// identification, and the other starts were never tried.
+    #[test]
+    fn a_failed_start_does_not_end_the_identification() {
+        let starts = [(4, 1.0), (7, 2.0), (2, 3.0)];
+        let mut tried = Vec::new();
+        let (done, failures) = run_starts(&starts, |k, idx, _| {
+            tried.push(k);
+            if idx == 4 {
+                Err(IdentifyError::Solve("not finite".into()))
+            } else {
+                Ok(idx)
+            }
+        })
+        .unwrap();
+        assert_eq!(tried, [0, 1, 2]);
+        assert_eq!(done, [7, 2]);
+        assert_eq!(
+            failures,
+            [StartFailure {
+                plan_index: 4,
+                reason: "not finite".into()
+            }]
+        );
+    }
+
+    /// Only when every start fails does the identification fail, naming each
+    /// start's reason.
+    #[test]
+    fn all_starts_failed_names_every_reason() {
+        let starts = [(4, 1.0), (7, 2.0)];
+        let e = run_starts(&starts, |_, idx, _| -> Result<(), _> {
+            Err(IdentifyError::Solve(format!("reason {idx}")))
+        })
+        .unwrap_err();
+        let IdentifyError::AllStartsFailed(f) = &e else {
+            panic!("{e:?}")
+        };
+        assert_eq!(f.len(), 2);
+        let msg = e.to_string();
+        assert!(
+            msg.contains("plan point 5: reason 4") && msg.contains("plan point 8: reason 7"),
+            "{msg}"
+        );
     }
 }

@@ -37,6 +37,17 @@ pub struct PlanSummary {
     pub first_failure: Option<String>,
 }
 
+/// A local search that could not run (its start point's evaluation with
+/// sensitivities failed, for instance). Recorded like a failed plan point:
+/// the other starts still run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StartFailure {
+    /// Plan index (0-based) of the start point.
+    pub plan_index: usize,
+    /// Why the search failed.
+    pub reason: String,
+}
+
 /// One iterate of the local search that gave the estimate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Iterate {
@@ -118,6 +129,9 @@ pub struct IdentificationResult {
     pub from: f64,
     /// The plan.
     pub plan: PlanSummary,
+    /// Local searches that failed to run (the others gave the estimate).
+    #[serde(default)]
+    pub failed_starts: Vec<StartFailure>,
     /// The local search's history.
     pub history: Vec<Iterate>,
     /// Wall time of each phase.

@@ -97,6 +97,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
                 "the response diverged at t = 0.1 s (state not finite or beyond 1e6)".into()
             }),
         },
+        failed_starts: Vec::new(),
         history,
         timings: Timings {
             plan: 1.5,
