@@ -3,6 +3,7 @@ mod cli;
 mod commands;
 mod diagnostics;
 mod format;
+mod outputs;
 mod ui;
 
 use clap::Parser;
@@ -11,6 +12,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     restore_sigpipe();
+    outputs::signals::install();
     let args = cli::Cli::parse();
     let ui = ui::Ui {
         quiet: args.quiet,

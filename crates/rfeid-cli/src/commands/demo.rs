@@ -1,11 +1,13 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use super::identify::{run_search, show_result, write_result};
+use super::identify::{check_limits, json_conflict, result_json, run_search, show_result};
 use super::report::{self, demo_title, reference_of};
+use super::simulate::noise_sensor;
 use crate::cli::DemoArgs;
 use crate::diagnostics::{model_error, Failure};
+use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::io::model_file::parse_model;
-use rfeid::measurement::add_noise;
+use rfeid::measurement::{add_noise, check_noise};
 use rfeid::model::Model;
 use rfeid::simulation::{Response, Simulator, Workspace};
 use std::path::Path;
@@ -24,20 +26,26 @@ pub fn demo_data(model: &Model, noise: Option<f64>, seed: u64) -> Result<Respons
     let mut data = sim.response_buffer();
     sim.run(&model.nominal(), &mut Workspace::default(), &mut data)
         .map_err(|e| Failure::failed(format!("simulating the data failed: {e}")))?;
-    match noise {
-        Some(f) if !(f >= 0.0 && f.is_finite()) => {
-            return Err(Failure::input_msg(
-                "--noise must be a non-negative fraction",
-            ))
-        }
-        Some(f) => add_noise(&mut data, f, seed),
-        None => {}
+    if let Some(f) = noise {
+        check_noise(&data, f)
+            .map_err(|e| Failure::input_msg(format!("--noise: {}", noise_sensor(model, e))))?;
+        add_noise(&mut data, f, seed);
     }
     Ok(data)
 }
 
 /// Runs the command.
 pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
+    check_limits(&args.search)?;
+    let mut plan = Plan::new();
+    if let Some(path) = &args.output {
+        plan.file("-o", path);
+    }
+    if let Some(dir) = &args.report {
+        plan.report("--report", dir);
+    }
+    let outputs = plan.check()?;
+    json_conflict(ui, &outputs)?;
     let model = demo_model()?;
     let data = demo_data(&model, args.noise, args.seed)?;
     match args.noise {
@@ -61,24 +69,34 @@ pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         Some("built-in knee–column benchmark (examples/knee-column/model.toml)".into());
     result.source.demo_noise = args.noise;
     result.source.demo_seed = args.noise.map(|_| args.seed);
-    if let Some(path) = &args.output {
-        write_result(path, &result)?;
-        ui.note(format!("result written to {}", path.display()));
-    }
-    if let Some(dir) = &args.report {
+    let mut batch = outputs.batch();
+    if args.report.is_some() {
         let reference = reference_of(&model, &result);
-        report::write(
-            ui,
-            dir,
+        let files = report::render(
             &model,
             &result,
             &data,
             Some(&reference),
             &demo_title(&result),
         )?;
+        batch.report("--report", &files)?;
     }
-    show_result(&model, &result, "actual", args.search.timings, ui)?;
-    if ui.json {
+    if args.output.is_some() {
+        batch.file("-o", result_json(&result)?)?;
+    }
+    batch.commit()?;
+    if let Some(dir) = &args.report {
+        ui.note(format!(
+            "report written to {}",
+            dir.join("report.html").display()
+        ));
+    }
+    let taken = outputs.uses_stdout();
+    if let Some(path) = args.output.as_ref().filter(|_| !taken) {
+        ui.note(format!("result written to {}", path.display()));
+    }
+    show_result(&model, &result, "actual", args.search.timings, taken, ui)?;
+    if ui.json || (taken && ui.quiet) {
         return Ok(());
     }
     let worst = result

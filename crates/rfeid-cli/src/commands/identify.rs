@@ -3,6 +3,7 @@ use super::common::load;
 use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::outputs::{Checked, Plan};
 use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::identification::output_error::OutputError;
@@ -10,16 +11,27 @@ use rfeid::identification::pipeline::{
     identify, IdentifyError, Method, Progress, Settings, Weighting,
 };
 use rfeid::identification::result::IdentificationResult;
-use rfeid::io::atomic::write_atomically;
 use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::match_data;
 use rfeid::model::Model;
 use rfeid::simulation::{Response, Simulator};
-use std::path::Path;
 
 /// Runs the command.
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
+    check_limits(&args.search)?;
     let model = load(&args.model)?;
+    let mut plan = Plan::new();
+    plan.input(&args.model)
+        .input(&args.data)
+        .file("-o", &args.output);
+    for f in &model.files {
+        plan.input(f);
+    }
+    if let Some(dir) = &args.report {
+        plan.report("--report", dir);
+    }
+    let outputs = plan.check()?;
+    json_conflict(ui, &outputs)?;
     let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
     let data = read_measurement(&args.data, &model, &sources).map_err(Failure::input_msg)?;
     let measured = match_data(&model, &data)
@@ -27,30 +39,60 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let mut result = run_search(&model, measured.clone(), &args.search, ui)?;
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(args.data.display().to_string());
-    write_result(&args.output, &result)?;
-    if let Some(dir) = &args.report {
+    let mut batch = outputs.batch();
+    if args.report.is_some() {
         let title = format!("{} with {}", args.model.display(), args.data.display());
-        super::report::write(ui, dir, &model, &result, &measured, None, &title)?;
+        let files = super::report::render(&model, &result, &measured, None, &title)?;
+        batch.report("--report", &files)?;
     }
-    show_result(&model, &result, "nominal", args.search.timings, ui)?;
-    ui.note(format!("result written to {}", args.output.display()));
+    batch.file("-o", result_json(&result)?)?;
+    batch.commit()?;
+    if let Some(dir) = &args.report {
+        ui.note(format!(
+            "report written to {}",
+            dir.join("report.html").display()
+        ));
+    }
+    let taken = outputs.uses_stdout();
+    show_result(&model, &result, "nominal", args.search.timings, taken, ui)?;
+    if !taken {
+        ui.note(format!("result written to {}", args.output.display()));
+    }
     Ok(())
 }
 
-/// The tables, or the result as JSON with `--json`.
+/// The tables, or the result as JSON with `--json`. When an output file
+/// went to standard output, the tables go to standard error (unless
+/// `--quiet`).
 pub fn show_result(
     model: &Model,
     r: &IdentificationResult,
     reference: &str,
     timings: bool,
+    stdout_taken: bool,
     ui: &Ui,
 ) -> Result<(), Failure> {
     if ui.json {
         ui.print_json(r)
     } else {
-        print_result(model, r, reference, timings);
+        let text = format_result(model, r, reference, timings);
+        if !stdout_taken {
+            print!("{text}");
+        } else if !ui.quiet {
+            eprint!("{text}");
+        }
         Ok(())
     }
+}
+
+/// Refuses `--json` when an output file goes to standard output.
+pub fn json_conflict(ui: &Ui, outputs: &Checked) -> Result<(), Failure> {
+    if ui.json && outputs.uses_stdout() {
+        return Err(Failure::input_msg(
+            "--json: standard output already carries an output file (-); drop one of them",
+        ));
+    }
+    Ok(())
 }
 
 /// Progress on stderr: a bar over the plan, then one line per iteration.
@@ -80,6 +122,54 @@ impl Progress for Bars {
     }
 }
 
+/// Most plan points `--plan` may ask for: a plan of 10⁶ points of a
+/// 1000-parameter model holds 8 GB of coordinates, so larger plans are a
+/// mistake rather than a wish.
+pub const MAX_PLAN: usize = 1_000_000;
+/// Most local searches `--starts` may ask for.
+pub const MAX_STARTS: usize = 1000;
+/// Most worker threads `--threads` may ask for.
+pub const MAX_THREADS: usize = 1024;
+
+/// Checks `--plan`, `--starts` and `--threads` against their limits before
+/// anything is computed.
+pub fn check_limits(a: &SearchArgs) -> Result<(), Failure> {
+    if !(1..=MAX_PLAN).contains(&a.plan) {
+        return Err(Failure::input_msg(format!(
+            "--plan {}: must be 1 to {MAX_PLAN}",
+            a.plan
+        )));
+    }
+    if !(1..=MAX_STARTS.min(a.plan)).contains(&a.starts) {
+        return Err(Failure::input_msg(format!(
+            "--starts {}: must be 1 to the plan size ({}) and at most {MAX_STARTS}",
+            a.starts, a.plan
+        )));
+    }
+    if let Some(t) = a.threads {
+        if !(1..=MAX_THREADS).contains(&t) {
+            return Err(Failure::input_msg(format!(
+                "--threads {t}: must be 1 to {MAX_THREADS}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Starts the worker threads (`threads`, or one per core); a pool that
+/// cannot be started (a process limit, say) is a clear error, exit 1.
+pub fn start_threads(threads: Option<usize>) -> Result<(), Failure> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build_global()
+        .map_err(|e| {
+            Failure::failed(format!(
+                "could not start {} worker threads: {e}",
+                threads.map_or("the".to_string(), |t| t.to_string())
+            ))
+        })
+}
+
 /// Checks the search settings and runs the pipeline.
 pub fn run_search(
     model: &Model,
@@ -87,25 +177,8 @@ pub fn run_search(
     a: &SearchArgs,
     ui: &Ui,
 ) -> Result<IdentificationResult, Failure> {
-    if let Some(t) = a.threads {
-        if t == 0 {
-            return Err(Failure::input_msg("--threads must be at least 1"));
-        }
-        let _ = rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build_global();
-    }
-    if a.plan == 0 {
-        return Err(Failure::input_msg(
-            "--plan 0: the plan needs at least one point",
-        ));
-    }
-    if a.starts == 0 || a.starts > a.plan {
-        return Err(Failure::input_msg(format!(
-            "--starts {}: must be 1 to the plan size ({})",
-            a.starts, a.plan
-        )));
-    }
+    check_limits(a)?;
+    start_threads(a.threads)?;
     let s = model.sampling;
     if !(a.from >= 0.0 && a.from < s.duration) {
         return Err(Failure::input_msg(format!(
@@ -165,8 +238,15 @@ pub fn run_search(
     Ok(result)
 }
 
-/// Prints the paper-style tables (Tables 1–2) and diagnostics.
-pub fn print_result(model: &Model, r: &IdentificationResult, reference: &str, timings: bool) {
+/// The paper-style tables (Tables 1–2) and diagnostics.
+pub fn format_result(
+    model: &Model,
+    r: &IdentificationResult,
+    reference: &str,
+    timings: bool,
+) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
     let rows: Vec<Vec<String>> = r
         .parameters
         .iter()
@@ -195,8 +275,9 @@ pub fn print_result(model: &Model, r: &IdentificationResult, reference: &str, ti
         })
         .collect();
     let diff = format!("vs {reference} %");
-    println!();
-    print!(
+    let _ = writeln!(out);
+    let _ = write!(
+        out,
         "{}",
         table(
             &[
@@ -212,18 +293,21 @@ pub fn print_result(model: &Model, r: &IdentificationResult, reference: &str, ti
             &rows
         )
     );
-    println!();
-    println!(
+    let _ = writeln!(out);
+    let _ = writeln!(
+        out,
         "criterion J = {:.6e}   s² = {}   N = {}",
         r.criterion,
         r.s2.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
         r.observations
     );
-    println!(
+    let _ = writeln!(
+        out,
         "{} after {} iterations ({})",
         r.termination_message, r.iterations, r.method
     );
-    println!(
+    let _ = writeln!(
+        out,
         "plan: {} points, {} failed; simulations: {} (+{} with sensitivities), {} failed",
         r.plan.points,
         r.plan.failed,
@@ -232,35 +316,37 @@ pub fn print_result(model: &Model, r: &IdentificationResult, reference: &str, ti
         r.failed_simulations
     );
     for f in &r.failed_starts {
-        println!(
+        let _ = writeln!(
+            out,
             "warning: the local search from plan point {} failed and was skipped: {}",
             f.plan_index + 1,
             f.reason
         );
     }
     if let Some(c) = r.condition_number {
-        println!("condition number of the scaled Fisher matrix: {c:.3e}");
+        let _ = writeln!(out, "condition number of the scaled Fisher matrix: {c:.3e}");
     }
     if let Some(e) = &r.uncertainty_error {
-        println!("warning: no standard errors: {e}");
+        let _ = writeln!(out, "warning: no standard errors: {e}");
     }
     for w in &r.warnings {
-        println!("warning: {w}");
+        let _ = writeln!(out, "warning: {w}");
     }
     if timings {
         let t = &r.timings;
-        println!(
+        let _ = writeln!(
+        out,
             "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s, total {:.3} s ({} threads)",
             t.plan, t.local_search, t.uncertainty, t.total, r.threads
         );
     }
+    out
 }
 
-/// Writes RESULT.json atomically.
-pub fn write_result(path: &Path, r: &IdentificationResult) -> Result<(), Failure> {
-    write_atomically(path, |w| {
-        serde_json::to_writer_pretty(&mut *w, r).map_err(std::io::Error::other)?;
-        std::io::Write::write_all(w, b"\n")
-    })
-    .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))
+/// RESULT.json's text.
+pub fn result_json(r: &IdentificationResult) -> Result<Vec<u8>, Failure> {
+    let mut text = serde_json::to_vec_pretty(r)
+        .map_err(|e| Failure::failed(format!("the result as JSON: {e}")))?;
+    text.push(b'\n');
+    Ok(text)
 }

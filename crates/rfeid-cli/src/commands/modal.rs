@@ -1,16 +1,27 @@
 //! `rfeid modal`: modes of the linearised model.
 use super::common::{apply_sets, load, simulation_failure};
+use super::identify::json_conflict;
 use crate::cli::ModalArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::outputs::Plan;
 use crate::ui::Ui;
-use rfeid::io::atomic::write_atomically;
 use rfeid::simulation::modal::modal_analysis;
 use rfeid::simulation::Simulator;
 
 /// Runs the command.
 pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
+    let mut plan = Plan::new();
+    plan.input(&args.model);
+    for f in &model.files {
+        plan.input(f);
+    }
+    if let Some(path) = &args.json_file {
+        plan.file("--json-file", path);
+    }
+    let outputs = plan.check()?;
+    json_conflict(ui, &outputs)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
     let sim = Simulator::new(&model);
@@ -23,11 +34,15 @@ pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
         .collect();
     let json = serde_json::json!({ "coordinates": coordinates, "analysis": modal });
     if let Some(path) = &args.json_file {
-        write_atomically(path, |w| {
-            serde_json::to_writer_pretty(&mut *w, &json).map_err(std::io::Error::other)?;
-            std::io::Write::write_all(w, b"\n")
-        })
-        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+        let mut text = serde_json::to_vec_pretty(&json)
+            .map_err(|e| Failure::failed(format!("modes as JSON: {e}")))?;
+        text.push(b'\n');
+        let mut batch = outputs.batch();
+        batch.file("--json-file", text)?;
+        batch.commit()?;
+        if outputs.uses_stdout() {
+            return Ok(());
+        }
         ui.note(format!("modes written to {}", path.display()));
     }
     if ui.json {

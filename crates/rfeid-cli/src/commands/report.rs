@@ -3,12 +3,13 @@ use super::common::load;
 use super::demo::{demo_data, demo_model};
 use crate::cli::ReportArgs;
 use crate::diagnostics::Failure;
+use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::match_data;
 use rfeid::model::Model;
-use rfeid::report::{write_report, ReportInput};
+use rfeid::report::{report_files, ReportInput};
 use rfeid::simulation::{Response, Simulator, Workspace};
 use std::path::{Path, PathBuf};
 
@@ -32,6 +33,8 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
             base.join(p)
         }
     };
+    let mut plan = Plan::new();
+    plan.input(&args.result).report("-o", &args.output);
     let (model, measured, reference, title) = match (&result.source.model, &result.source.data) {
         (_, Some(data)) => {
             let model_path = result
@@ -40,6 +43,11 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
                 .as_deref()
                 .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
             let model = load(&resolve(model_path))?;
+            plan.input(&resolve(model_path)).input(&resolve(data));
+            for f in &model.files {
+                plan.input(f);
+            }
+            plan.check()?;
             let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
             let ts =
                 read_measurement(&resolve(data), &model, &sources).map_err(Failure::input_msg)?;
@@ -65,15 +73,17 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
             )))
         }
     };
-    write(
-        ui,
-        &args.output,
-        &model,
-        &result,
-        &measured,
-        reference.as_deref(),
-        &title,
-    )
+    let outputs = plan.check()?;
+    let files = render(&model, &result, &measured, reference.as_deref(), &title)?;
+    let mut batch = outputs.batch();
+    batch.report("-o", &files)?;
+    batch.commit()?;
+    ui.note(format!(
+        "report written to {} ({} figures)",
+        args.output.join("report.html").display(),
+        files.len() - 1
+    ));
+    Ok(())
 }
 
 /// The demo's title.
@@ -100,16 +110,14 @@ pub fn reference_of(model: &Model, result: &IdentificationResult) -> Vec<f64> {
         .collect()
 }
 
-/// Simulates at the estimate and writes the report into `dir`.
-pub fn write(
-    ui: &Ui,
-    dir: &Path,
+/// Simulates at the estimate and renders the report's files (name, text).
+pub fn render(
     model: &Model,
     result: &IdentificationResult,
     measured: &Response,
     reference: Option<&[f64]>,
     title: &str,
-) -> Result<(), Failure> {
+) -> Result<Vec<(String, String)>, Failure> {
     let mut params = model.nominal();
     for p in &result.parameters {
         let i = model.parameter_index(&p.name).ok_or_else(|| {
@@ -136,12 +144,5 @@ pub fn write(
         fitted: &fitted,
         reference,
     };
-    let files =
-        write_report(dir, &input).map_err(|e| Failure::input_msg(format!("report: {e}")))?;
-    ui.note(format!(
-        "report written to {} ({} figures)",
-        files.html.display(),
-        files.figures.len()
-    ));
-    Ok(())
+    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
 }

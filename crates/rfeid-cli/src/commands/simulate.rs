@@ -2,14 +2,29 @@
 use super::common::{apply_sets, load, simulation_failure};
 use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
+use crate::outputs::Plan;
 use crate::ui::Ui;
-use rfeid::io::timeseries::write_csv;
-use rfeid::measurement::{add_noise, rms, to_timeseries};
+use rfeid::io::timeseries::write_csv_to;
+use rfeid::measurement::{add_noise, check_noise, rms, to_timeseries};
 use rfeid::simulation::{Integrator, Simulator, Workspace};
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model)?;
+    let mut plan = Plan::new();
+    plan.input(&args.model).file("-o", &args.output);
+    for f in &model.files {
+        plan.input(f);
+    }
+    if let Some(p) = &args.plot {
+        plan.file("--plot", p);
+    }
+    let outputs = plan.check()?;
+    if ui.json && outputs.uses_stdout() {
+        return Err(Failure::input_msg(
+            "--json: standard output already carries an output file (-); drop one of them",
+        ));
+    }
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
     if let Some(f) = args.noise {
@@ -38,14 +53,21 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         .map_err(|e| simulation_failure("simulation failed", e))?;
     let elapsed = start.elapsed();
     if let Some(f) = args.noise {
+        check_noise(&out, f)
+            .map_err(|e| Failure::input_msg(format!("--noise: {}", noise_sensor(&model, e))))?;
         add_noise(&mut out, f, args.seed);
     }
     let series = to_timeseries(&model, &out);
-    write_csv(&args.output, &series).map_err(Failure::input_msg)?;
-    if let Some(path) = &args.plot {
+    let mut csv = Vec::new();
+    write_csv_to(&mut csv, &series).map_err(|e| Failure::failed(format!("CSV: {e}")))?;
+    let mut batch = outputs.batch();
+    if args.plot.is_some() {
         let svg = rfeid::report::response_svg(&model, &series.time, &out);
-        rfeid::io::atomic::write_atomically(path, |w| std::io::Write::write_all(w, svg.as_bytes()))
-            .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+        batch.file("--plot", svg.into_bytes())?;
+    }
+    batch.file("-o", csv)?;
+    batch.commit()?;
+    if let Some(path) = &args.plot {
         ui.note(format!("plot written to {}", path.display()));
     }
     if ui.json {
@@ -74,4 +96,19 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         ));
     }
     Ok(())
+}
+
+/// A noise error with the sensor named.
+pub fn noise_sensor(model: &rfeid::model::Model, e: rfeid::measurement::NoiseError) -> String {
+    use rfeid::measurement::NoiseError;
+    let sensor = match &e {
+        NoiseError::Overflow { sensor, .. } | NoiseError::BelowRounding { sensor, .. } => {
+            model.sensors.get(*sensor).map(|s| s.name.as_str())
+        }
+        NoiseError::BadFraction { .. } => None,
+    };
+    match sensor {
+        Some(name) => format!("{e} ('{name}')"),
+        None => e.to_string(),
+    }
 }

@@ -171,25 +171,27 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
     Ok(ts)
 }
 
-/// Writes a time-series CSV atomically.
-pub fn write_csv(path: &Path, ts: &TimeSeries) -> Result<(), DataError> {
-    use std::io::Write;
-    write_atomically(path, |w| {
-        write!(w, "time")?;
-        for n in &ts.names {
-            write!(w, ",{n}")?;
+/// Writes a time series as CSV text: a `time` column, then one column per
+/// series, numbers that read back exactly.
+pub fn write_csv_to(w: &mut dyn std::io::Write, ts: &TimeSeries) -> std::io::Result<()> {
+    write!(w, "time")?;
+    for n in &ts.names {
+        write!(w, ",{n}")?;
+    }
+    writeln!(w)?;
+    for (k, t) in ts.time.iter().enumerate() {
+        write!(w, "{}", format_number(*t))?;
+        for c in &ts.columns {
+            write!(w, ",{}", format_number(c[k]))?;
         }
         writeln!(w)?;
-        for (k, t) in ts.time.iter().enumerate() {
-            write!(w, "{}", format_number(*t))?;
-            for c in &ts.columns {
-                write!(w, ",{}", format_number(c[k]))?;
-            }
-            writeln!(w)?;
-        }
-        Ok::<(), std::io::Error>(())
-    })
-    .map_err(|source| DataError::Io {
+    }
+    Ok(())
+}
+
+/// Writes a time-series CSV atomically.
+pub fn write_csv(path: &Path, ts: &TimeSeries) -> Result<(), DataError> {
+    write_atomically(path, |w| write_csv_to(w, ts)).map_err(|source| DataError::Io {
         path: path.into(),
         source,
     })

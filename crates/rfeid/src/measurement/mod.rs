@@ -117,6 +117,75 @@ pub fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
 }
 
+/// Why `--noise` cannot add the noise asked for.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum NoiseError {
+    /// The fraction is negative or not finite.
+    #[error("the noise fraction {fraction:e} must be a finite number ≥ 0")]
+    BadFraction {
+        /// The fraction.
+        fraction: f64,
+    },
+    /// σ = fraction × RMS, or the noisy signal, would not be finite.
+    #[error("noise of {fraction:e} × RMS overflows on sensor {sensor} (RMS {rms:e})")]
+    Overflow {
+        /// Sensor index.
+        sensor: usize,
+        /// The fraction.
+        fraction: f64,
+        /// The sensor's RMS.
+        rms: f64,
+    },
+    /// σ is below the rounding of the signal's values: adding it would
+    /// change nothing.
+    #[error("noise of {fraction:e} × RMS is below the rounding of sensor {sensor}'s values (largest {peak:e}) and would change nothing")]
+    BelowRounding {
+        /// Sensor index.
+        sensor: usize,
+        /// The fraction.
+        fraction: f64,
+        /// The sensor's largest |value|.
+        peak: f64,
+    },
+}
+
+/// Checks that [`add_noise`] with `fraction` adds noise to every sensor that
+/// has a signal: σ and the noisy values finite, and σ not lost in the
+/// values' rounding. A fraction of 0 (no noise) is accepted; a sensor whose
+/// signal is all zero gets no noise from any fraction.
+pub fn check_noise(response: &Response, fraction: f64) -> Result<(), NoiseError> {
+    if !(fraction.is_finite() && fraction >= 0.0) {
+        return Err(NoiseError::BadFraction { fraction });
+    }
+    if fraction == 0.0 {
+        return Ok(());
+    }
+    for c in 0..response.n_sensors {
+        let rms = rms(response.sensor(c));
+        let sigma = fraction * rms;
+        let peak = response
+            .sensor(c)
+            .iter()
+            .fold(0.0_f64, |a, v| a.max(v.abs()));
+        // A normal sample beyond 40 σ has probability below 1e-300.
+        if !sigma.is_finite() || !(peak + 40.0 * sigma).is_finite() {
+            return Err(NoiseError::Overflow {
+                sensor: c,
+                fraction,
+                rms,
+            });
+        }
+        if rms > 0.0 && sigma < f64::EPSILON * peak {
+            return Err(NoiseError::BelowRounding {
+                sensor: c,
+                fraction,
+                peak,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Adds white Gaussian noise of standard deviation `fraction × RMS(signal)`
 /// to every sensor (SPEC §3), from a ChaCha8 generator seeded with `seed`:
 /// the same seed gives the same noise on every machine.

@@ -245,6 +245,8 @@ pub struct Model {
     pub sampling: Sampling,
     /// Gravity acceleration, global, m/s²; the run then starts from static equilibrium.
     pub gravity: Option<Vector3<f64>>,
+    /// Files the model file read besides itself (signal tables), as opened.
+    pub files: Vec<std::path::PathBuf>,
 }
 
 impl Model {

@@ -306,6 +306,24 @@ pub fn render_html(input: &ReportInput) -> Result<String, ReportError> {
     Ok(html::page(input, &figures(input)))
 }
 
+/// The report's files in memory: each figure as (`NAME.svg`, text), then
+/// (`report.html`, text) last.
+pub fn report_files(input: &ReportInput) -> Result<Vec<(String, String)>, ReportError> {
+    check(input)?;
+    let figs = figures(input);
+    let mut out: Vec<(String, String)> = figs
+        .iter()
+        .map(|f| {
+            (
+                f.file.clone(),
+                format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{}", f.svg),
+            )
+        })
+        .collect();
+    out.push(("report.html".into(), html::page(input, &figs)));
+    Ok(out)
+}
+
 /// Writes `dir/report.html` and each figure as `dir/NAME.svg`, creating
 /// `dir` if needed; each file appears whole or not at all.
 pub fn write_report(dir: &Path, input: &ReportInput) -> Result<ReportFiles, ReportError> {

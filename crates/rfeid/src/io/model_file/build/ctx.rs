@@ -38,6 +38,8 @@ pub(super) struct Ctx {
     pub(super) text: Arc<str>,
     pub(super) params: Vec<ParamDraft>,
     pub(super) param_index: HashMap<String, usize>,
+    /// Files read besides the model file (signal tables).
+    pub(super) files: std::cell::RefCell<Vec<PathBuf>>,
 }
 
 impl Ctx {

@@ -23,6 +23,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         text: Arc::from(text),
         params: Vec::new(),
         param_index: HashMap::new(),
+        files: Default::default(),
     };
     let raw: RawFile = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
 
@@ -417,5 +418,6 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         sensors,
         sampling,
         gravity,
+        files: ctx.files.take(),
     })
 }

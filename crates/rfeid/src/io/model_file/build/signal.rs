@@ -193,6 +193,7 @@ pub(super) fn signal(
             let file = required(ctx, &rs.file, sig.span(), entry, "signal.file")?;
             let column = required(ctx, &rs.column, sig.span(), entry, "signal.column")?;
             let path = ctx.dir.join(file.get_ref());
+            ctx.files.borrow_mut().push(path.clone());
             let ts = read_csv(&path)
                 .map_err(|e| ctx.err(Some(file.span()), entry, "signal.file", e.to_string()))?;
             let values = ts

@@ -1,0 +1,103 @@
+//! No temporary survives SIGINT, SIGTERM or SIGHUP. The signals are blocked
+//! in every thread and taken by one thread (`sigwait`), which removes the
+//! registered temporaries and ends the process with 128 + the signal's
+//! number (130, 143, 129).
+//!
+//! Every step that creates or renames an output happens while holding the
+//! registry's lock, and so does the clean-up: an interruption sees either no
+//! output committed or all of them, and never a temporary being created
+//! after it cleaned up.
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard};
+
+/// The temporaries that exist now: files and directories to remove on an
+/// interruption.
+#[derive(Debug, Default)]
+pub struct Registry {
+    paths: Vec<PathBuf>,
+}
+
+impl Registry {
+    /// Records a temporary that is about to be created.
+    pub fn add(&mut self, path: PathBuf) {
+        self.paths.push(path);
+    }
+
+    /// Forgets a temporary (renamed into place or removed).
+    pub fn forget(&mut self, path: &std::path::Path) {
+        self.paths.retain(|p| p != path);
+    }
+
+    /// Removes every registered temporary.
+    fn remove_all(&mut self) {
+        for p in self.paths.drain(..) {
+            remove_path(&p);
+        }
+    }
+}
+
+/// Removes a file or a directory tree, ignoring errors (it may not exist).
+pub fn remove_path(p: &std::path::Path) {
+    match std::fs::symlink_metadata(p) {
+        Ok(m) if m.is_dir() => {
+            let _ = std::fs::remove_dir_all(p);
+        }
+        Ok(_) => {
+            let _ = std::fs::remove_file(p);
+        }
+        Err(_) => {}
+    }
+}
+
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry { paths: Vec::new() });
+
+/// The registry, locked. Hold it while creating, renaming or removing
+/// temporaries.
+pub fn lock() -> MutexGuard<'static, Registry> {
+    REGISTRY.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Blocks SIGINT, SIGTERM and SIGHUP and starts the thread that handles
+/// them. Call first thing in `main`, before any other thread exists, so that
+/// every later thread inherits the mask.
+#[cfg(unix)]
+pub fn install() {
+    // SAFETY: plain libc calls on a local, initialised signal set; at start-up
+    // only this thread exists, so the mask covers every later thread.
+    let set = unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        for s in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            libc::sigaddset(&mut set, s);
+        }
+        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
+            return;
+        }
+        set
+    };
+    let spawned = std::thread::Builder::new()
+        .name("signals".into())
+        .stack_size(64 * 1024)
+        .spawn(move || loop {
+            let mut sig: libc::c_int = 0;
+            // SAFETY: `set` is an initialised signal set and `sig` a valid
+            // out-pointer.
+            if unsafe { libc::sigwait(&set, &mut sig) } != 0 {
+                continue;
+            }
+            let mut registry = lock();
+            registry.remove_all();
+            std::process::exit(128 + sig);
+        });
+    if spawned.is_err() {
+        // No handler thread: let the signals act as before.
+        // SAFETY: as above.
+        unsafe {
+            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+        }
+    }
+}
+
+/// No signal handling off Unix.
+#[cfg(not(unix))]
+pub fn install() {}
