@@ -12,7 +12,7 @@ use rfeid::identification::pipeline::{
 };
 use rfeid::identification::result::IdentificationResult;
 use rfeid::io::data_file::read_measurement;
-use rfeid::measurement::match_data;
+use rfeid::measurement::{constant_sensors, match_data};
 use rfeid::model::Model;
 use rfeid::simulation::{Response, Simulator};
 
@@ -197,6 +197,25 @@ pub fn run_search(
     }
     if model.identified().is_empty() {
         return Err(Failure::input_msg(IdentifyError::NoParameters));
+    }
+    let constant = constant_sensors(&measured, first);
+    let names: Vec<&str> = constant
+        .iter()
+        .map(|&c| model.sensors[c].name.as_str())
+        .collect();
+    if constant.len() == measured.n_sensors {
+        return Err(Failure::input_msg(format!(
+            "every measured signal is constant from t = {} s on ({}): constant data carry no \
+             information about the parameters",
+            a.from,
+            names.join(", ")
+        )));
+    }
+    if !constant.is_empty() {
+        ui.note(format!(
+            "warning: these measured signals are constant and carry no information: {}",
+            names.join(", ")
+        ));
     }
     let settings = Settings {
         plan_points: a.plan,

@@ -117,6 +117,17 @@ pub fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
 }
 
+/// Sensors whose signal from sample `first` on is constant (all zero, say):
+/// such a signal carries no information about the parameters.
+pub fn constant_sensors(response: &Response, first: usize) -> Vec<usize> {
+    (0..response.n_sensors)
+        .filter(|&c| {
+            let s = &response.sensor(c)[first.min(response.n_samples)..];
+            s.iter().all(|v| *v == s[0])
+        })
+        .collect()
+}
+
 /// Why `--noise` cannot add the noise asked for.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum NoiseError {

@@ -149,6 +149,23 @@ pub enum DataFileError {
         /// The value.
         value: f64,
     },
+    /// A finite value so large that the criterion's squares would overflow:
+    /// no measured signal is near [`MAX_DATA_MAGNITUDE`](super::MAX_DATA_MAGNITUDE).
+    #[error("{}: sensor '{sensor}' ({source_desc}): sample {index} is {value:e}; measured values must be below {limit:e} in magnitude (SI units)", path.display())]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// The sensor.
+        sensor: String,
+        /// Its source.
+        source_desc: String,
+        /// 0-based sample.
+        index: usize,
+        /// The value.
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
     /// A universal-file record that is not a time signal.
     #[error("{}: sensor '{sensor}': record {record} ('{name}') has function type {function_type}, not a time response (1) or general function (0)", path.display())]
     NotTimeResponse {

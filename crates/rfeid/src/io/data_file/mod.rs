@@ -85,6 +85,11 @@ pub fn read_measurement(
     check(path, model, raw)
 }
 
+/// Largest |value| a measured signal may have (SI units). Squares of larger
+/// values, summed over a record, overflow the criterion (eq. 13); no real
+/// acceleration, velocity or displacement comes near it.
+pub const MAX_DATA_MAGNITUDE: f64 = 1e100;
+
 /// The shared checks: a finite, strictly increasing time axis, and finite
 /// signals as long as it.
 fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<TimeSeries, DataFileError> {
@@ -123,6 +128,16 @@ fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<TimeSeries, Da
                 source_desc: origin.clone(),
                 index: k,
                 value: col[k],
+            });
+        }
+        if let Some(k) = col.iter().position(|v| v.abs() > MAX_DATA_MAGNITUDE) {
+            return Err(DataFileError::TooLarge {
+                path: path.into(),
+                sensor: sensor.name.clone(),
+                source_desc: origin.clone(),
+                index: k,
+                value: col[k],
+                limit: MAX_DATA_MAGNITUDE,
             });
         }
     }

@@ -212,8 +212,20 @@ fn header(bytes: &[u8], path: &Path) -> Result<Endian, MatError> {
     Ok(endian)
 }
 
+/// Most bytes one compressed element may inflate to (1 GiB: 134 million
+/// doubles, far beyond a measurement).
+pub const MAX_INFLATED: usize = 1 << 30;
+
+/// Most bytes deflate can produce per compressed byte (its longest match,
+/// 258 bytes, costs at least 2 bits: 1032:1), plus a little for headers.
+fn most_inflated(compressed: usize) -> usize {
+    compressed.saturating_mul(1032).saturating_add(1024)
+}
+
 /// Inflates the zlib stream of the compressed element at file offset `at`:
-/// the inner element's tag, then exactly the bytes it declares.
+/// the inner element's tag, then exactly the bytes it declares. A declared
+/// size that `data` cannot hold (beyond deflate's 1032:1), or beyond
+/// [`MAX_INFLATED`], is refused before inflating it.
 fn inflate(file: &Buf<'_>, data: &[u8], at: usize) -> Result<Vec<u8>, MatError> {
     let inner = Buf {
         bytes: &[],
@@ -245,6 +257,16 @@ fn inflate(file: &Buf<'_>, data: &[u8], at: usize) -> Result<Vec<u8>, MatError> 
         file.endian.u32([out[4], out[5], out[6], out[7]]) as usize
     };
     let what = "compressed element";
+    if size > most_inflated(data.len()) || size > MAX_INFLATED {
+        return Err(inner.malformed(
+            0,
+            format!(
+                "the compressed element declares {size} bytes, more than its {} compressed bytes \
+                 can hold (deflate inflates at most 1032:1) or than the {MAX_INFLATED}-byte limit",
+                data.len()
+            ),
+        ));
+    }
     if let Err(e) = (&mut z).take(size as u64).read_to_end(&mut out) {
         return Err(fail(e, out.len(), what, size + 8));
     }

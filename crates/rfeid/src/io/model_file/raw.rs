@@ -4,13 +4,45 @@ use toml::Spanned;
 
 /// A number, or a string: a quantity with a unit (`"15 daN/um"`) or the
 /// name of a parameter.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum RawNum {
     /// A bare number, SI.
     Num(f64),
     /// A quantity with a unit, or a parameter name.
     Text(String),
+}
+
+/// Reads a number or a string, and says what it expected otherwise (an
+/// untagged enum would only say that nothing matched).
+impl<'de> Deserialize<'de> for RawNum {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = RawNum;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str(
+                    "a number, or a string holding a quantity with a unit (\"15 daN/um\") \
+                     or a parameter's name",
+                )
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<RawNum, E> {
+                Ok(RawNum::Num(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<RawNum, E> {
+                Ok(RawNum::Num(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<RawNum, E> {
+                Ok(RawNum::Num(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<RawNum, E> {
+                Ok(RawNum::Text(v.to_string()))
+            }
+            fn visit_string<E>(self, v: String) -> Result<RawNum, E> {
+                Ok(RawNum::Text(v))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 pub type SNum = Spanned<RawNum>;

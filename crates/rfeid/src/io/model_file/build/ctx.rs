@@ -313,13 +313,34 @@ pub(super) fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<Mode
     let field = message
         .strip_prefix("unknown field `")
         .and_then(|m| m.split('`').next())
-        .unwrap_or("")
-        .to_string();
+        .map(str::to_string)
+        .or_else(|| e.span().and_then(|span| key_before(text, span.start)))
+        .unwrap_or_default();
     let entry = e
         .span()
         .and_then(|span| entry_at(text, span.start))
         .unwrap_or_default();
     ctx.err(e.span(), &entry, &field, message)
+}
+
+/// The key whose value starts at byte `pos`: the last `key =` before it on
+/// its line (inline tables included), or on an earlier line for a value
+/// inside a multi-line array.
+fn key_before(text: &str, pos: usize) -> Option<String> {
+    let before = text.get(..pos)?;
+    for line in before.rsplit('\n').take(50) {
+        if let Some((left, _)) = line.rsplit_once('=') {
+            let key = left
+                .rsplit(['{', ',', '['])
+                .next()?
+                .trim()
+                .trim_matches('"');
+            if !key.is_empty() {
+                return Some(key.to_string());
+            }
+        }
+    }
+    None
 }
 
 /// The entry (`body "knee"`, `element #2`, `[simulation]` …) whose table
