@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(name = "rfeid", version, about, long_about = None)]
 #[command(
-    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model or data file)."
+    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model, data file or output location), 130/143/129 interrupted.\nOutputs: their directories must exist; inputs are never overwritten; all outputs of a run appear together or not at all; `-o -` writes to standard output. See the README, \"Output files\"."
 )]
 pub struct Cli {
     /// The command.
@@ -62,7 +62,7 @@ pub struct CheckArgs {
 pub struct SimulateArgs {
     /// The model file (TOML).
     pub model: PathBuf,
-    /// Output CSV: a `time` column, then one column per sensor (SI units).
+    /// Output CSV: a `time` column, then one column per sensor (SI units); `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
     /// Add Gaussian noise of standard deviation FRAC × RMS of each sensor's signal.
@@ -77,7 +77,7 @@ pub struct SimulateArgs {
     /// Integrator steps per sample (overrides the model's `substeps`).
     #[arg(long)]
     pub substeps: Option<usize>,
-    /// Also plot the responses to this SVG file.
+    /// Also plot the responses to this SVG file (`-` for standard output).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
 }
@@ -87,7 +87,7 @@ pub struct SimulateArgs {
 pub struct ReportArgs {
     /// RESULT.json written by `rfeid identify` or `rfeid demo -o`.
     pub result: PathBuf,
-    /// Directory for report.html and the figures (SVG).
+    /// Directory for report.html and the figures (SVG); its parent must exist, and an existing one is replaced whole.
     #[arg(short, long)]
     pub output: PathBuf,
 }
@@ -103,7 +103,7 @@ pub struct ModalArgs {
     /// Also print the mode shapes.
     #[arg(long)]
     pub shapes: bool,
-    /// Also write frequencies, damping ratios and mode shapes to this JSON file.
+    /// Also write frequencies, damping ratios and mode shapes to this JSON file (`-` for standard output).
     #[arg(long = "json-file", value_name = "FILE")]
     pub json_file: Option<PathBuf>,
 }
@@ -111,10 +111,10 @@ pub struct ModalArgs {
 /// Settings shared by `identify` and `demo`.
 #[derive(Debug, Args)]
 pub struct SearchArgs {
-    /// Points of the LP_τ (Sobol) plan over the parameter box.
+    /// Points of the LP_τ (Sobol) plan over the parameter box (1 to 1 000 000).
     #[arg(long, default_value_t = 100)]
     pub plan: usize,
-    /// Run the local search from the best K plan points and keep the best result.
+    /// Run the local search from the best K plan points and keep the best result (K ≤ 1000 and ≤ the plan).
     #[arg(long, default_value_t = 1, value_name = "K")]
     pub starts: usize,
     /// Local search: Levenberg–Marquardt with exact sensitivities, or the paper's BFGS.
@@ -123,7 +123,7 @@ pub struct SearchArgs {
     /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance.
     #[arg(long, value_enum, default_value_t = WeightsArg::Equal)]
     pub weights: WeightsArg,
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads (default: all cores; at most 1024). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
     /// Ignore the record before this time, s (the transient from an unknown initial state).
@@ -163,10 +163,10 @@ pub struct IdentifyArgs {
     /// `data = { column | variable | record = … }` says where its signal is.
     #[arg(long)]
     pub data: PathBuf,
-    /// Result file (JSON).
+    /// Result file (JSON); `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,
-    /// Also write the HTML report (report.html and SVG figures) into this directory.
+    /// Also write the HTML report (report.html and SVG figures) into this directory (its parent must exist; an existing report is replaced whole).
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
     /// Search settings.
@@ -183,10 +183,10 @@ pub struct DemoArgs {
     /// Seed of the noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Also write the result (JSON).
+    /// Also write the result (JSON); `-` for standard output.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Also write the HTML report (report.html and SVG figures) into this directory.
+    /// Also write the HTML report (report.html and SVG figures) into this directory (its parent must exist; an existing report is replaced whole).
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
     /// Search settings.
