@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(name = "rfeid", version, about, long_about = None)]
 #[command(
-    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model, data file or output location), 130/143/129 interrupted.\nOutputs: their directories must exist; inputs are never overwritten; all outputs of a run appear together or not at all; `-o -` writes to standard output. See the README, \"Output files\"."
+    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model, data file or output location), 3 the identification's result was written but its verdict is suspect, 130/143/129 interrupted.\nOutputs: their directories must exist; inputs are never overwritten; all outputs of a run appear together or not at all; `-o -` writes to standard output. See the README, \"Output files\"."
 )]
 pub struct Cli {
     /// The command.

@@ -6,6 +6,9 @@ use rfeid::io::model_file::ModelFileError;
 pub const EXIT_INPUT: u8 = 2;
 /// A computation failed.
 pub const EXIT_FAILURE: u8 = 1;
+/// The identification ran and its result was written, but its verdict is
+/// suspect (see `rfeid::identification::verdict`).
+pub const EXIT_SUSPECT: u8 = 3;
 
 /// A failed command: its exit status and what to tell the user.
 pub struct Failure {
@@ -28,6 +31,16 @@ impl Failure {
     pub fn failed(msg: impl std::fmt::Display) -> Self {
         Failure {
             code: EXIT_FAILURE,
+            report: miette::miette!("{msg}"),
+        }
+    }
+}
+
+impl Failure {
+    /// A written result whose verdict is suspect.
+    pub fn suspect(msg: impl std::fmt::Display) -> Self {
+        Failure {
+            code: EXIT_SUSPECT,
             report: miette::miette!("{msg}"),
         }
     }

@@ -223,3 +223,44 @@ fn a_large_plan_and_long_record_keep_the_page_small() {
     let plan = figure(&html, "LP_τ plan");
     assert!(plan.contains(&format!("{} failed (J = +∞)", result.plan.failed)));
 }
+
+/// The heat map outlines exactly the pairs the verdict names (in both
+/// triangles), whatever other correlations are large: the text and the map
+/// agree.
+#[test]
+fn the_heat_map_outlines_exactly_the_verdicts_pairs() {
+    use rfeid::identification::verdict::{Reason, Verdict, VerdictSettings};
+    let model = knee_column();
+    let mut result = synthetic_result(&model, 0);
+    let name = |i: usize| result.parameters[i].name.clone();
+    let reasons = vec![Reason::StrongCorrelation {
+        first: 0,
+        second: 2,
+        first_name: name(0),
+        second_name: name(2),
+        correlation: 0.95,
+    }];
+    result.verdict = Some(Verdict {
+        trustworthy: false,
+        reasons,
+        minima: Vec::new(),
+        minima_threshold: 0.0,
+        sensors: Vec::new(),
+        correlation_threshold: 0.9,
+        settings: VerdictSettings::default(),
+    });
+    let d = data(&model, 500);
+    let html = render_html(&input(&model, &result, &d, None)).expect("renders");
+    let map = figure(&html, "Correlation");
+    let outlines = map
+        .lines()
+        .filter(|l| {
+            l.starts_with("<rect")
+                && l.contains("fill=\"none\" stroke=\"#000000\" stroke-width=\"2\"")
+        })
+        .count();
+    assert_eq!(outlines, 2, "the pair (0, 2) in both triangles");
+    assert!(map.contains("|correlation| &gt; 0.9: warned about"));
+    assert!(html.contains("Suspect: do not use these estimates before resolving 1 reason:"));
+    assert!(html.contains("are correlated (+0.9500)"));
+}

@@ -1,5 +1,7 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use super::identify::{check_limits, json_conflict, result_json, run_search, show_result};
+use super::identify::{
+    check_limits, json_conflict, result_json, run_search, show_result, suspect_status,
+};
 use super::report::{self, demo_title, reference_of};
 use super::simulate::noise_sensor;
 use crate::cli::DemoArgs;
@@ -96,8 +98,13 @@ pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         ui.note(format!("result written to {}", path.display()));
     }
     show_result(&model, &result, "actual", args.search.timings, taken, ui)?;
+    let written = match &args.output {
+        Some(p) if !taken => p.display().to_string(),
+        Some(_) => "standard output".to_string(),
+        None => "nowhere (no -o)".to_string(),
+    };
     if ui.json || (taken && ui.quiet) {
-        return Ok(());
+        return suspect_status(&result, &written);
     }
     let worst = result
         .parameters
@@ -113,5 +120,5 @@ pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         "largest error: {:.4}% ({}); the paper's was 11.4% (h_t3) after about 7.3 hours",
         worst.1, worst.0
     );
-    Ok(())
+    suspect_status(&result, &written)
 }

@@ -58,7 +58,19 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     if !taken {
         ui.note(format!("result written to {}", args.output.display()));
     }
-    Ok(())
+    suspect_status(&result, &args.output.display().to_string())
+}
+
+/// Exit status 3 for a written result whose verdict is suspect.
+pub fn suspect_status(result: &IdentificationResult, written: &str) -> Result<(), Failure> {
+    match &result.verdict {
+        Some(v) if !v.trustworthy => Err(Failure::suspect(format!(
+            "the result is suspect ({} reason{}, listed above); it was written to {written} all the same",
+            v.reasons.len(),
+            if v.reasons.len() == 1 { "" } else { "s" }
+        ))),
+        _ => Ok(()),
+    }
 }
 
 /// The tables, or the result as JSON with `--json`. When an output file
@@ -351,6 +363,7 @@ pub fn format_result(
     for w in &r.warnings {
         let _ = writeln!(out, "warning: {w}");
     }
+    write_verdict(&mut out, r);
     if timings {
         let t = &r.timings;
         let _ = writeln!(
@@ -368,4 +381,49 @@ pub fn result_json(r: &IdentificationResult) -> Result<Vec<u8>, Failure> {
         .map_err(|e| Failure::failed(format!("the result as JSON: {e}")))?;
     text.push(b'\n');
     Ok(text)
+}
+
+/// The verdict, with every reason and the fit per sensor.
+fn write_verdict(out: &mut String, r: &IdentificationResult) {
+    use std::fmt::Write as _;
+    let Some(v) = &r.verdict else {
+        return;
+    };
+    let fits: Vec<String> = v
+        .sensors
+        .iter()
+        .map(|s| match s.fit_percent {
+            Some(f) => format!("{} {f:.2} %", s.sensor),
+            None => format!("{} -", s.sensor),
+        })
+        .collect();
+    if !fits.is_empty() {
+        let _ = writeln!(out, "fit per sensor: {}", fits.join(", "));
+    }
+    if v.minima.len() > 1 || v.minima.first().is_some_and(|m| m.starts > 1) {
+        let list: Vec<String> = v
+            .minima
+            .iter()
+            .map(|m| {
+                format!(
+                    "J = {:.4e} ({} start{})",
+                    m.cost,
+                    m.starts,
+                    if m.starts == 1 { "" } else { "s" }
+                )
+            })
+            .collect();
+        let _ = writeln!(out, "minima reached by the starts: {}", list.join(", "));
+    }
+    if v.trustworthy {
+        let _ = writeln!(out, "verdict: trustworthy (no bound, minimum, convergence, fit, residual or identifiability check failed)");
+    } else {
+        let _ = writeln!(
+            out,
+            "verdict: SUSPECT — do not use these estimates before resolving:"
+        );
+        for reason in &v.reasons {
+            let _ = writeln!(out, "  - {reason}");
+        }
+    }
 }

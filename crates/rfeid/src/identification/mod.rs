@@ -10,8 +10,12 @@
 //!   paper's BFGS with finite-difference gradients, eq. 20–25) search locally
 //!   inside the box, and end with a [`termination::StopReason`];
 //! - [`uncertainty`] turns the Jacobian at the estimate into Cramér–Rao
-//!   bounds (eq. 26–29) and identifiability warnings.
+//!   bounds (eq. 26–29) and identifiability warnings;
+//! - [`verdict`] says whether the result can be trusted, with every reason
+//!   it cannot (bounds, distinct minima, convergence, fit, residual
+//!   whiteness, identifiability).
 pub mod bfgs;
+pub mod chi_square;
 mod fd_gradient;
 mod line_search;
 pub mod lm;
@@ -25,3 +29,4 @@ pub mod result;
 pub mod settings;
 pub mod termination;
 pub mod uncertainty;
+pub mod verdict;

@@ -10,6 +10,7 @@ pub use super::result::StartFailure;
 use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
 use super::termination::{SolveError, StopReason};
 use super::uncertainty::{cramer_rao_normalised, IdentifiabilityWarning, UncertaintySettings};
+use super::verdict::{assess, Evidence, StartEnd, VerdictSettings};
 use crate::simulation::SimulationError;
 use nalgebra::DMatrix;
 use std::time::Instant;
@@ -52,6 +53,8 @@ pub struct Settings {
     pub bfgs: BfgsSettings,
     /// Uncertainty settings.
     pub uncertainty: UncertaintySettings,
+    /// Thresholds of the verdict.
+    pub verdict: VerdictSettings,
 }
 
 /// What a caller may watch (progress bars, logs). Every method has a no-op default.
@@ -208,10 +211,14 @@ fn local_search(
 
 /// Per-sensor sums of squared unweighted residuals at u.
 fn sensor_ssr(problem: &OutputError<'_>, u: &[f64]) -> Result<Vec<f64>, SimulationError> {
-    let g = problem.simulate(u)?;
+    Ok(ssr_of(problem, &problem.simulate(u)?))
+}
+
+/// Per-sensor sums of squared unweighted residuals of the response `g`.
+fn ssr_of(problem: &OutputError<'_>, g: &crate::simulation::Response) -> Vec<f64> {
     let y = problem.measured();
     let first = problem.first_sample();
-    Ok((0..y.n_sensors)
+    (0..y.n_sensors)
         .map(|c| {
             g.sensor(c)[first..]
                 .iter()
@@ -219,7 +226,7 @@ fn sensor_ssr(problem: &OutputError<'_>, u: &[f64]) -> Result<Vec<f64>, Simulati
                 .map(|(a, b)| (a - b) * (a - b))
                 .sum()
         })
-        .collect())
+        .collect()
 }
 
 /// Runs the identification of `problem`'s parameters.
@@ -264,6 +271,7 @@ pub fn identify(
     // 2. Local search from the best few points; keep the best end.
     let t_local = Instant::now();
     let starts = evaluation.best_few(settings.starts);
+    let mut ends = Vec::with_capacity(starts.len());
     let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, evaluation.n_failed);
     let (searches, start_failures) = run_starts(&starts, |k, idx, cost| {
         progress.search_started(k, starts.len(), cost);
@@ -277,6 +285,10 @@ pub fn identify(
         sims += s.residual_evals;
         sims_sens += s.jacobian_evals;
         failed += s.failed;
+        ends.push(StartEnd {
+            cost: s.cost,
+            parameters: problem.to_physical(&s.u),
+        });
         if best.as_ref().is_none_or(|b| s.cost < b.cost) {
             best = Some(s);
         }
@@ -380,10 +392,35 @@ pub fn identify(
         .as_ref()
         .map(|c| c.warnings.iter().map(|w| describe(w, &names)).collect())
         .unwrap_or_default();
-    let ssr = sensor_ssr(&problem, &best.u)
-        .map(|v| v.iter().sum())
-        .unwrap_or(f64::NAN);
+    let fitted = problem.simulate(&best.u);
+    let ssr = match &fitted {
+        Ok(g) => ssr_of(&problem, g).iter().sum(),
+        Err(_) => f64::NAN,
+    };
     let n_obs = n_res;
+    let sensors: Vec<String> = model.sensors.iter().map(|s| s.name.clone()).collect();
+    let parameter_names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
+    let verdict = assess(
+        &Evidence {
+            parameters: &parameter_names,
+            u: &best.u,
+            ends: &ends,
+            observations: n_obs,
+            stop: best.stop,
+            iterations: best.iterations,
+            termination: best.stop.to_string(),
+            sensors: &sensors,
+            measured: problem.measured(),
+            fitted: fitted.as_ref().map_err(|e| e.to_string()),
+            first: problem.first_sample(),
+            identifiability: match (&uncertainty, &unc_error) {
+                (Some(c), _) => Ok(&c.warnings),
+                (None, e) => Err(e.clone().unwrap_or_default()),
+            },
+            correlation_threshold: settings.uncertainty.correlation_threshold(),
+        },
+        &settings.verdict,
+    );
     Ok(IdentificationResult {
         parameters,
         criterion: best.cost,
@@ -410,7 +447,7 @@ pub fn identify(
         simulations_with_sensitivities: sims_sens,
         failed_simulations: failed,
         weights: problem.weights(),
-        sensors: model.sensors.iter().map(|s| s.name.clone()).collect(),
+        sensors,
         from: model.sampling.time(problem.first_sample()),
         plan: PlanSummary {
             points: plan.len(),
@@ -441,6 +478,7 @@ pub fn identify(
         },
         threads: rayon::current_num_threads(),
         source: Default::default(),
+        verdict: Some(verdict),
     })
 }
 

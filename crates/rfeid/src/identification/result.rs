@@ -1,4 +1,5 @@
 //! The outcome of an identification, as written to RESULT.json (SPEC §3).
+use super::verdict::Verdict;
 use serde::{Deserialize, Serialize};
 
 /// One identified parameter, SI.
@@ -141,4 +142,15 @@ pub struct IdentificationResult {
     /// Where the model and data came from.
     #[serde(default)]
     pub source: Source,
+    /// Whether the result can be trusted, and every reason it cannot
+    /// (absent in results written before verdicts existed).
+    #[serde(default)]
+    pub verdict: Option<Verdict>,
+}
+
+impl IdentificationResult {
+    /// `true` if a verdict was drawn and it is not trustworthy.
+    pub fn is_suspect(&self) -> bool {
+        self.verdict.as_ref().is_some_and(|v| !v.trustworthy)
+    }
 }

@@ -2,16 +2,39 @@
 //! scale from −1 (blue) through 0 (white) to +1 (red) (ColorBrewer RdBu,
 //! safe for the common colour-vision deficiencies). The values are printed
 //! in the cells for up to [`MAX_PRINTED`] parameters, so the sign survives a
-//! greyscale print.
+//! greyscale print. The outlined cells are exactly the pairs the verdict
+//! (and the warnings) name: the same test, on the same numbers.
 use super::axis::legend;
 use super::axis::Key;
 use super::svg::{colour, text_width, Anchor, Stroke, Svg, FONT_SIZE};
+use crate::identification::result::IdentificationResult;
 
 /// Largest matrix whose values are printed in the cells.
 pub(crate) const MAX_PRINTED: usize = 20;
 
-/// Off-diagonal correlations at least this large are outlined.
-const STRONG: f64 = 0.9;
+/// The warning threshold of results written before verdicts existed (the
+/// default of [`crate::identification::uncertainty::UncertaintySettings`]).
+const DEFAULT_THRESHOLD: f64 = 0.99;
+
+/// The pairs (i < j) the result warns about, and the threshold: from the
+/// verdict, or for an older result the default test `|ρ| > 0.99`.
+pub(crate) fn warned_pairs(
+    r: &IdentificationResult,
+    corr: &[Vec<f64>],
+) -> (Vec<(usize, usize)>, f64) {
+    if let Some(v) = &r.verdict {
+        return (v.correlated_pairs(), v.correlation_threshold);
+    }
+    let mut pairs = Vec::new();
+    for (i, row) in corr.iter().enumerate() {
+        for (j, &c) in row.iter().enumerate().skip(i + 1) {
+            if c.abs() > DEFAULT_THRESHOLD {
+                pairs.push((i, j));
+            }
+        }
+    }
+    (pairs, DEFAULT_THRESHOLD)
+}
 
 /// Anchors of the diverging scale: (value, RGB).
 const ANCHORS: [(f64, [u8; 3]); 7] = [
@@ -50,8 +73,14 @@ fn cell_text(r: f64) -> String {
     s.replace('-', "−")
 }
 
-/// The heat map of `corr` (r × r) with `names` on both axes.
-pub(crate) fn correlation_figure(corr: &[Vec<f64>], names: &[String]) -> String {
+/// The heat map of `corr` (r × r) with `names` on both axes; the cells of
+/// `pairs` (i < j, both triangles) are outlined as beyond `threshold`.
+pub(crate) fn correlation_figure(
+    corr: &[Vec<f64>],
+    names: &[String],
+    pairs: &[(usize, usize)],
+    threshold: f64,
+) -> String {
     let n = corr.len().max(1);
     let cell = (560.0 / n as f64).clamp(10.0, 40.0);
     let label_w = names
@@ -65,14 +94,12 @@ pub(crate) fn correlation_figure(corr: &[Vec<f64>], names: &[String]) -> String 
     let width = (bar_x + 90.0).max(400.0);
     let height = y0 + grid + 24.0;
     let mut svg = Svg::new(width, height, "Correlation matrix of the estimates");
+    let key = format!("|correlation| > {threshold}: warned about");
     legend(
         &mut svg,
         16.0,
         18.0,
-        &[(
-            "|correlation| ≥ 0.9 (off the diagonal)",
-            Key::Line(Stroke::new(colour::BLACK, 2.0)),
-        )],
+        &[(key.as_str(), Key::Line(Stroke::new(colour::BLACK, 2.0)))],
     );
     let font = (0.3 * cell).min(10.0);
     for (i, row) in corr.iter().enumerate() {
@@ -103,19 +130,18 @@ pub(crate) fn correlation_figure(corr: &[Vec<f64>], names: &[String]) -> String 
             }
         }
     }
-    // Strong correlations outlined, after all cells so no fill covers them.
-    for (i, row) in corr.iter().enumerate() {
-        for (j, &r) in row.iter().enumerate() {
-            if i != j && r.abs() >= STRONG {
-                svg.rect(
-                    x0 + cell * j as f64 + 1.0,
-                    y0 + cell * i as f64 + 1.0,
-                    cell - 2.0,
-                    cell - 2.0,
-                    "none",
-                    Some(Stroke::new(colour::BLACK, 2.0)),
-                );
-            }
+    // The warned pairs outlined in both triangles, after all cells so no
+    // fill covers them.
+    for &(a, b) in pairs {
+        for (i, j) in [(a, b), (b, a)] {
+            svg.rect(
+                x0 + cell * j as f64 + 1.0,
+                y0 + cell * i as f64 + 1.0,
+                cell - 2.0,
+                cell - 2.0,
+                "none",
+                Some(Stroke::new(colour::BLACK, 2.0)),
+            );
         }
     }
     svg.rect(

@@ -11,6 +11,8 @@ h1{font-size:22px;margin:0 0 6px}h2{font-size:18px;border-bottom:2px solid #0072
 h3{font-size:15px;margin:16px 0 6px}\
 nav{font-size:12px;color:#555;margin-bottom:8px}nav a{color:#0072B2;margin-right:10px;text-decoration:none;white-space:nowrap}.nw{white-space:nowrap}\
 .verdict{font-size:17px;font-weight:bold;padding:8px 12px;border-radius:4px;margin:8px 0}\
+.verdict ul{font-size:14px;font-weight:normal;margin:6px 0 0}\
+p.search{padding:4px 12px;margin:4px 0}\
 .ok{background:#e3f4ec;border-left:6px solid #009E73}.bad{background:#fdeee4;border-left:6px solid #D55E00}\
 .warn{background:#fff4d6;border:2px solid #E69F00;border-radius:4px;padding:8px 14px}\
 .none{background:#e3f4ec;border:1px solid #009E73;border-radius:4px;padding:8px 14px}\
@@ -103,9 +105,37 @@ fn worst_error(r: &IdentificationResult, reference: &[f64]) -> Option<(String, f
         .max_by(|a, b| a.1.total_cmp(&b.1))
 }
 
+/// The verdict: trustworthy, or suspect with every reason.
+fn verdict(out: &mut String, r: &IdentificationResult) {
+    match &r.verdict {
+        Some(v) if v.trustworthy => out.push_str(
+            "<div class=\"verdict ok\">Trustworthy: no check of bounds, minima, convergence, \
+             fit, residuals or identifiability found a reason to doubt this result.</div>\n",
+        ),
+        Some(v) => {
+            let _ = write!(
+                out,
+                "<div class=\"verdict bad\">Suspect: do not use these estimates before resolving \
+                 {} reason{}:\n<ul>\n",
+                v.reasons.len(),
+                if v.reasons.len() == 1 { "" } else { "s" }
+            );
+            for reason in &v.reasons {
+                let _ = writeln!(out, "<li>{}</li>", escape(&reason.to_string()));
+            }
+            out.push_str("</ul></div>\n");
+        }
+        None => out.push_str(
+            "<div class=\"verdict bad\">No verdict: this result was written by an rfeid \
+             that did not check it.</div>\n",
+        ),
+    }
+}
+
 fn summary(out: &mut String, input: &ReportInput) {
     let r = input.result;
     section(out, "summary");
+    verdict(out, r);
     let (class, word) = if converged(r) {
         ("ok", "Converged")
     } else {
@@ -119,7 +149,7 @@ fn summary(out: &mut String, input: &ReportInput) {
         .map_or(r.termination_message.as_str(), |(_, tail)| tail);
     let _ = writeln!(
         out,
-        "<div class=\"verdict {class}\">{word}: {}</div>",
+        "<p class=\"search {class}\">Local search: {word}: {}</p>",
         escape(why)
     );
     if let Some(reference) = input.reference {
@@ -155,6 +185,36 @@ fn summary(out: &mut String, input: &ReportInput) {
             ),
         ),
         ("fitted from", format!("t = {} s", sig(r.from, 4))),
+        (
+            "fit per sensor (100 (1 − ‖y − ŷ‖/‖y − ȳ‖))",
+            r.verdict.as_ref().map_or_else(String::new, |v| {
+                v.sensors
+                    .iter()
+                    .map(|s| match s.fit_percent {
+                        Some(f) => format!("{}: {} %", s.sensor, sig(f, 4)),
+                        None => format!("{}: undefined (constant signal)", s.sensor),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }),
+        ),
+        (
+            "minima reached by the starts",
+            r.verdict.as_ref().map_or_else(String::new, |v| {
+                v.minima
+                    .iter()
+                    .map(|m| {
+                        format!(
+                            "J = {} ({} start{})",
+                            sig(m.cost, 4),
+                            m.starts,
+                            if m.starts == 1 { "" } else { "s" }
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }),
+        ),
         (
             "method",
             format!(

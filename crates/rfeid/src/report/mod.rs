@@ -288,13 +288,16 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
     }
     if let Some(corr) = &r.correlation {
         let names: Vec<String> = r.parameters.iter().map(|p| p.name.clone()).collect();
+        let (pairs, threshold) = correlation::warned_pairs(r, corr);
         out.push(Figure {
             file: "correlation.svg".into(),
             section: "correlation",
-            caption: "Correlation of the estimates (from the Cramér–Rao bound): −1 blue, \
-                      0 white, +1 red; |ρ| ≥ 0.9 outlined."
-                .into(),
-            svg: correlation::correlation_figure(corr, &names),
+            caption: format!(
+                "Correlation of the estimates (from the Cramér–Rao bound): −1 blue, \
+                 0 white, +1 red; the pairs the verdict warns about (|ρ| > {threshold}) \
+                 outlined."
+            ),
+            svg: correlation::correlation_figure(corr, &names, &pairs, threshold),
         });
     }
     out

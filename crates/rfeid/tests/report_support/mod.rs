@@ -107,6 +107,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         },
         threads: 2,
         source: Default::default(),
+        verdict: None,
     }
 }
 
