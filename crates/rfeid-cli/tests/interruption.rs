@@ -1,6 +1,7 @@
 //! SIGINT at seeded random moments of `identify --report`: afterwards the
 //! result and the report are either both the complete old ones or both the
 //! complete new ones, and no temporary file is left.
+#![cfg(unix)]
 mod support;
 
 use std::path::{Path, PathBuf};

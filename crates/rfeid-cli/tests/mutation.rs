@@ -2,6 +2,7 @@
 //! and UFF data. Whatever the damage, `rfeid` ends by itself (no panic, no
 //! signal), with a documented exit status, and leaves no output and no
 //! temporary file after a non-zero exit. Bounded to a few seconds.
+#![cfg(unix)]
 mod support;
 
 use std::path::Path;

@@ -116,9 +116,14 @@ pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
             )
         })
         .fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
-    println!(
+    let line = format!(
         "largest error: {:.4}% ({}); the paper's was 11.4% (h_t3) after about 7.3 hours",
         worst.1, worst.0
     );
+    if taken {
+        eprintln!("{line}");
+    } else {
+        println!("{line}");
+    }
     suspect_status(&result, &written)
 }
