@@ -92,3 +92,9 @@ pub fn flat(stderr: &[u8]) -> String {
         .collect::<Vec<_>>()
         .join(" ")
 }
+
+/// Whether an identification finished and wrote its outputs: exit 0, or 3
+/// (written, but the verdict is suspect).
+pub fn finished(status: std::process::ExitStatus) -> bool {
+    matches!(status.code(), Some(0) | Some(3))
+}
