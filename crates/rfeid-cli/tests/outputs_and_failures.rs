@@ -562,3 +562,40 @@ fn dash_writes_to_standard_output() {
     assert!(flat(&out.stderr).contains("criterion J"));
     assert!(!dir.join("-").exists());
 }
+
+/// A signal table the model reads is one of the run's inputs, and its
+/// values are data: `-o` onto it is refused, and a huge value in it is bad
+/// input naming the file, column and sample.
+#[test]
+fn a_signal_table_is_an_input_and_its_values_are_checked() {
+    let dir = scratch_dir("table");
+    let model = oscillator_model(&dir);
+    let text = std::fs::read_to_string(&model).unwrap().replace(
+        "signal = { type = \"sine\", amplitude = 100.0, frequency = 30.0 }",
+        "signal = { type = \"table\", file = \"force.csv\", column = \"f\" }",
+    );
+    std::fs::write(&model, text).unwrap();
+    let table: String = (0..=60)
+        .map(|k| format!("{},{}\n", k as f64 * 1e-3, (k as f64 * 0.2).sin() * 100.0))
+        .collect();
+    let force = dir.join("force.csv");
+    std::fs::write(&force, format!("time,f\n{table}")).unwrap();
+    let out = rfeid()
+        .arg("simulate")
+        .arg(&model)
+        .arg("-o")
+        .arg(&force)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", flat(&out.stderr));
+    assert!(flat(&out.stderr).contains("input"));
+    assert!(std::fs::read_to_string(&force)
+        .unwrap()
+        .starts_with("time,f\n"));
+    let huge = format!("time,f\n{}", table.replacen(",0\n", ",1e154\n", 1));
+    std::fs::write(&force, huge).unwrap();
+    let out = rfeid().arg("check").arg(&model).output().unwrap();
+    let stderr = flat(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("column 'f', sample 0 is 1e154"), "{stderr}");
+}

@@ -212,6 +212,20 @@ pub(super) fn signal(
                     )
                 })?
                 .to_vec();
+            let limit = crate::io::data_file::MAX_DATA_MAGNITUDE;
+            if let Some(k) = values.iter().position(|v| v.abs() > limit) {
+                return Err(ctx.err(
+                    Some(column.span()),
+                    entry,
+                    "signal.column",
+                    format!(
+                        "{}: column '{}', sample {k} is {:e}; table values must be below {limit:e} in magnitude",
+                        path.display(),
+                        column.get_ref(),
+                        values[k]
+                    ),
+                ));
+            }
             vec![Term {
                 amplitude: amplitude(ctx, &rs.amplitude, Some(1.0))?,
                 shape: Shape::Table {
