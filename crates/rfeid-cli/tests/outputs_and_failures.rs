@@ -599,3 +599,30 @@ fn a_signal_table_is_an_input_and_its_values_are_checked() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("column 'f', sample 0 is 1e154"), "{stderr}");
 }
+
+/// Hidden temporaries that a killed earlier run left in a report folder do
+/// not stop the next report from replacing it, and go with the old folder.
+#[test]
+fn debris_of_a_killed_run_does_not_block_the_next_report() {
+    let dir = scratch_dir("debris");
+    let model = oscillator_model(&dir);
+    let data = simulate_csv(&dir, &model);
+    let report = dir.join("report");
+    std::fs::create_dir(&report).unwrap();
+    std::fs::write(report.join(".plan.svg.tmp-12345"), "x").unwrap();
+    std::fs::write(report.join(".rfeid-12345-3.tmp"), "x").unwrap();
+    let st = rfeid()
+        .arg("identify")
+        .arg(&model)
+        .arg("--data")
+        .arg(&data)
+        .arg("-o")
+        .arg(dir.join("r.json"))
+        .arg("--report")
+        .arg(&report)
+        .args(["--plan", "4", "-q"])
+        .status()
+        .unwrap();
+    assert!(finished(st));
+    assert_eq!(temporaries(&dir), Vec::<String>::new());
+}

@@ -122,7 +122,8 @@ impl<'a> Batch<'a> {
         let written = std::fs::create_dir(&tmp).and_then(|()| {
             files
                 .iter()
-                .try_for_each(|(name, text)| create_file(&tmp.join(name), text.as_bytes()))
+                .try_for_each(|(name, text)| create_file(&tmp.join(name), text.as_bytes()))?;
+            std::fs::File::open(&tmp)?.sync_all()
         });
         if let Err(e) = written {
             remove_path(&tmp);
@@ -193,6 +194,7 @@ fn commit_one(s: &Staged, registry: &mut signals::Registry) -> Result<(), Failur
         Staged::File { tmp, target } => {
             std::fs::rename(tmp, target).map_err(|e| write_failure(target, e))?;
             registry.forget(tmp);
+            sync_parent(target);
             Ok(())
         }
         Staged::Dir {
@@ -203,6 +205,7 @@ fn commit_one(s: &Staged, registry: &mut signals::Registry) -> Result<(), Failur
             if !*exists {
                 std::fs::rename(tmp, target).map_err(|e| write_failure(target, e))?;
                 registry.forget(tmp);
+                sync_parent(target);
                 return Ok(());
             }
             // The old report moves aside, the new one takes its place, then
@@ -216,9 +219,21 @@ fn commit_one(s: &Staged, registry: &mut signals::Registry) -> Result<(), Failur
                 return Err(write_failure(target, e));
             }
             registry.forget(tmp);
+            sync_parent(target);
             remove_path(&old);
             registry.forget(&old);
             Ok(())
+        }
+    }
+}
+
+/// Flushes the directory entry of a renamed output to disk, as git and
+/// SQLite do, so that a crash right after cannot lose the rename. Best
+/// effort: not every file system can sync a directory.
+fn sync_parent(target: &Path) {
+    if let Some(dir) = target.parent() {
+        if let Ok(d) = std::fs::File::open(dir) {
+            let _ = d.sync_all();
         }
     }
 }

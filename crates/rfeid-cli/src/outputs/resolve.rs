@@ -111,10 +111,16 @@ pub fn file_destination(path: &Path) -> Result<Destination, String> {
     }
 }
 
-/// Names an rfeid report may hold: `report.html` and SVG figures.
+/// Names an rfeid report may hold: `report.html`, SVG figures, and hidden
+/// temporaries an earlier, killed rfeid left (`.rfeid-…`, `.NAME.tmp-PID`).
 fn is_report_file(name: &std::ffi::OsStr) -> bool {
     let name = name.to_string_lossy();
-    name == "report.html" || name.ends_with(".svg")
+    let debris = name.starts_with(".rfeid-")
+        || (name.starts_with('.')
+            && name.rsplit_once(".tmp-").is_some_and(|(_, pid)| {
+                !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit())
+            }));
+    name == "report.html" || name.ends_with(".svg") || debris
 }
 
 /// Where a report directory named `path` goes. An existing directory is
