@@ -33,6 +33,7 @@ fn json_summary(model: &Model) -> serde_json::Value {
             "min": p.bounds.map(|b| b.0),
             "max": p.bounds.map(|b| b.1),
             "identified": p.bounds.is_some(),
+            "scale": p.bounds.map(|_| p.scale.as_str()),
             "si_unit": p.dimension.to_string(),
         })).collect::<Vec<_>>(),
     })
@@ -149,20 +150,20 @@ pub fn summary(model: &Model) -> String {
         .map(|p| {
             let u = &p.unit;
             let show = |v: f64| sig(v / u.scale, 5);
-            let (lo, hi) = p
+            let (lo, hi, scale) = p
                 .bounds
-                .map(|(l, h)| (show(l), show(h)))
-                .unwrap_or(("-".into(), "-".into()));
+                .map(|(l, h)| (show(l), show(h), p.scale.as_str().to_string()))
+                .unwrap_or(("-".into(), "-".into(), "-".into()));
             let unit = if u.symbol.is_empty() {
                 p.dimension.to_string()
             } else {
                 u.symbol.clone()
             };
-            vec![p.name.clone(), unit, show(p.value), lo, hi]
+            vec![p.name.clone(), unit, show(p.value), lo, hi, scale]
         })
         .collect();
     out.push_str(&table(
-        &["parameter", "unit", "nominal", "min", "max"],
+        &["parameter", "unit", "nominal", "min", "max", "scale"],
         &rows,
     ));
     out

@@ -4,8 +4,10 @@
 //! Residuals are `r_ck = √w_c (g_ck(x) − y_ck)` for every sensor c and every
 //! sample k from the first used one, so `J = Σ r²` is eq. 13 with
 //! `R⁻¹ = diag(w_c)`, and eq. 16 for `w_c = 1`. The parameters are
-//! `x = x_min + u (x_max − x_min)` (eq. 17); the Jacobian comes from the
-//! forward sensitivities ([`crate::simulation::run`]).
+//! `x = x_min + u (x_max − x_min)` (eq. 17), or `x = x_min (x_max/x_min)^u`
+//! on a log scale ([`super::box_map`]); the Jacobian comes from the forward
+//! sensitivities ([`crate::simulation::run`]) times `dx/du`.
+use super::box_map::BoxMap;
 use super::problem::LeastSquares;
 use crate::model::Model;
 use crate::simulation::{Response, Sensitivities, SimulationError, Simulator, Workspace};
@@ -18,7 +20,7 @@ pub struct OutputError<'m> {
     measured: Response,
     /// Identified parameters (indices into the model's parameters).
     wrt: Vec<usize>,
-    lower: Vec<f64>,
+    maps: Vec<BoxMap>,
     width: Vec<f64>,
     /// Values of all parameters; the identified ones are overwritten.
     base: Vec<f64>,
@@ -35,6 +37,8 @@ pub struct OutputErrorWorkspace {
     response: Response,
     sens: Sensitivities,
     params: Vec<f64>,
+    /// dx/du of the identified parameters at the current u.
+    dx_du: Vec<f64>,
 }
 
 impl<'m> OutputError<'m> {
@@ -43,22 +47,22 @@ impl<'m> OutputError<'m> {
     pub fn new(sim: Simulator<'m>, measured: Response, first: usize) -> Self {
         let model: &Model = sim.model();
         let wrt = model.identified();
-        let (lower, width) = wrt
+        let maps: Vec<BoxMap> = wrt
             .iter()
             .map(|&i| {
-                let (lo, hi) = model.parameters[i]
-                    .bounds
-                    .expect("identified parameters have boxes");
-                (lo, hi - lo)
+                let p = &model.parameters[i];
+                let (lo, hi) = p.bounds.expect("identified parameters have boxes");
+                BoxMap::new(lo, hi, p.scale)
             })
-            .unzip();
+            .collect();
+        let width = maps.iter().map(BoxMap::width).collect();
         let n_sensors = measured.n_sensors;
         OutputError {
             base: model.nominal(),
             sim,
             measured,
             wrt,
-            lower,
+            maps,
             width,
             sqrt_weights: vec![1.0; n_sensors],
             first,
@@ -85,21 +89,33 @@ impl<'m> OutputError<'m> {
         &self.width
     }
 
+    /// The maps between the boxes and the normalised coordinate.
+    pub fn maps(&self) -> &[BoxMap] {
+        &self.maps
+    }
+
     /// Physical parameter values (identified ones only) at u.
     pub fn to_physical(&self, u: &[f64]) -> Vec<f64> {
         u.iter()
-            .zip(&self.lower)
-            .zip(&self.width)
-            .map(|((u, lo), w)| lo + u * w)
+            .zip(&self.maps)
+            .map(|(u, m)| m.to_physical(*u))
             .collect()
     }
 
     /// Normalised coordinates of physical values.
     pub fn to_normalised(&self, x: &[f64]) -> Vec<f64> {
         x.iter()
-            .zip(&self.lower)
-            .zip(&self.width)
-            .map(|((x, lo), w)| (x - lo) / w)
+            .zip(&self.maps)
+            .map(|(x, m)| m.to_normalised(*x))
+            .collect()
+    }
+
+    /// `dx_j/du_j` at u: the chain-rule factors between the Jacobians in u
+    /// and in x.
+    pub fn dx_du(&self, u: &[f64]) -> Vec<f64> {
+        u.iter()
+            .zip(&self.maps)
+            .map(|(u, m)| m.derivative(*u))
             .collect()
     }
 
@@ -127,13 +143,8 @@ impl<'m> OutputError<'m> {
     pub fn all_params(&self, u: &[f64], out: &mut Vec<f64>) {
         out.clear();
         out.extend_from_slice(&self.base);
-        for ((&i, &u), (&lo, &w)) in self
-            .wrt
-            .iter()
-            .zip(u)
-            .zip(self.lower.iter().zip(&self.width))
-        {
-            out[i] = lo + u * w;
+        for ((&i, &u), m) in self.wrt.iter().zip(u).zip(&self.maps) {
+            out[i] = m.to_physical(u);
         }
     }
 
@@ -180,6 +191,7 @@ impl LeastSquares for OutputError<'_> {
                 values: Vec::new(),
             },
             params: Vec::with_capacity(self.base.len()),
+            dx_du: vec![0.0; self.wrt.len()],
         }
     }
 
@@ -211,6 +223,9 @@ impl LeastSquares for OutputError<'_> {
             &mut ws.sens,
         )?;
         self.fill_residuals(&ws.response, r);
+        for ((d, m), &u) in ws.dx_du.iter_mut().zip(&self.maps).zip(u) {
+            *d = m.derivative(u);
+        }
         let n = ws.response.n_samples;
         let used = n - self.first;
         let p = self.wrt.len();
@@ -220,7 +235,7 @@ impl LeastSquares for OutputError<'_> {
                 let row = c * used + (k - self.first);
                 let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
                 for j in 0..p {
-                    jac[(row, j)] = w * src[j] * self.width[j];
+                    jac[(row, j)] = w * src[j] * ws.dx_du[j];
                 }
             }
         }

@@ -9,7 +9,7 @@ use super::problem::{sum_of_squares, LeastSquares};
 pub use super::result::StartFailure;
 use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
 use super::termination::{SolveError, StopReason};
-use super::uncertainty::{cramer_rao_normalised, IdentifiabilityWarning, UncertaintySettings};
+use super::uncertainty::{cramer_rao_mapped, IdentifiabilityWarning, UncertaintySettings};
 use super::verdict::{assess, Evidence, StartEnd, VerdictSettings};
 use crate::simulation::SimulationError;
 use nalgebra::DMatrix;
@@ -347,21 +347,23 @@ pub fn identify(
     let mut jac = DMatrix::zeros(n_res, r);
     sims_sens += 1;
     let mut s2 = None;
-    let (uncertainty, unc_error) =
-        match problem.residuals_jacobian(&mut ws, &best.u, &mut res, &mut jac) {
-            Err(e) => (
-                None,
-                Some(format!("the simulation at the estimate failed: {e}")),
-            ),
-            Ok(()) => {
-                let ssr = sum_of_squares(&res);
-                s2 = Some(ssr / (n_res - r - 1) as f64);
-                match cramer_rao_normalised(&jac, ssr, problem.widths(), &settings.uncertainty) {
-                    Ok(c) => (Some(c), None),
-                    Err(e) => (None, Some(e.to_string())),
-                }
+    let (uncertainty, unc_error) = match problem
+        .residuals_jacobian(&mut ws, &best.u, &mut res, &mut jac)
+    {
+        Err(e) => (
+            None,
+            Some(format!("the simulation at the estimate failed: {e}")),
+        ),
+        Ok(()) => {
+            let ssr = sum_of_squares(&res);
+            s2 = Some(ssr / (n_res - r - 1) as f64);
+            let dx_du = problem.dx_du(&best.u);
+            match cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), &settings.uncertainty) {
+                Ok(c) => (Some(c), None),
+                Err(e) => (None, Some(e.to_string())),
             }
-        };
+        }
+    };
     let t_unc = t_unc.elapsed().as_secs_f64();
 
     let wrt = problem.wrt().to_vec();
@@ -384,6 +386,7 @@ pub fn identify(
                 std_error: uncertainty.as_ref().map(|c| c.std_errors[j]),
                 min,
                 max,
+                scale: p.scale,
                 nominal: p.value,
             }
         })

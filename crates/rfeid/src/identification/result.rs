@@ -1,5 +1,6 @@
 //! The outcome of an identification, as written to RESULT.json (SPEC §3).
 use super::verdict::Verdict;
+use crate::model::Scale;
 use serde::{Deserialize, Serialize};
 
 /// One identified parameter, SI.
@@ -19,6 +20,10 @@ pub struct ParameterEstimate {
     pub min: f64,
     /// Upper end of the box.
     pub max: f64,
+    /// How the search mapped the box onto [0, 1] (`linear` for results
+    /// written before scales existed).
+    #[serde(default)]
+    pub scale: Scale,
     /// Nominal value from the model file.
     pub nominal: f64,
 }

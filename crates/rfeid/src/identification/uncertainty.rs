@@ -251,6 +251,25 @@ pub fn cramer_rao_normalised(
     analyse(jac_u, &factors, ssr, Some(box_widths), settings)
 }
 
+/// [`cramer_rao`] from the Jacobian `∂r/∂u` in any normalised coordinate
+/// whose chain-rule factors `dx_j/du_j` at the estimate are `dx_du` (see
+/// [`crate::identification::box_map`]); the result is in physical units.
+/// `box_widths` (`x_max − x_min`) serve the standard-error-versus-box
+/// warning only. With `dx_du = box_widths` this is
+/// [`cramer_rao_normalised`].
+pub fn cramer_rao_mapped(
+    jac_u: &DMatrix<f64>,
+    ssr: f64,
+    dx_du: &[f64],
+    box_widths: &[f64],
+    settings: &UncertaintySettings,
+) -> Result<CramerRao, UncertaintyError> {
+    check_widths(jac_u.ncols(), Some(box_widths))?;
+    check_widths(jac_u.ncols(), Some(dx_du))?;
+    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
+    analyse(jac_u, &factors, ssr, Some(box_widths), settings)
+}
+
 fn check_widths(r: usize, box_widths: Option<&[f64]>) -> Result<(), UncertaintyError> {
     let Some(widths) = box_widths else {
         return Ok(());

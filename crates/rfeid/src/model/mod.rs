@@ -123,10 +123,53 @@ pub struct Parameter {
     pub value: f64,
     /// Search box `[min, max]`, SI; `None` for a fixed parameter.
     pub bounds: Option<(f64, f64)>,
+    /// How the search maps the box onto `[0, 1]` (eq. 17, or its
+    /// logarithmic form); [`Scale::Linear`] for a fixed parameter.
+    pub scale: Scale,
     /// How to show values to a person: a unit symbol and its SI scale.
     pub unit: DisplayUnit,
     /// Physical dimension, from the places the parameter is used.
     pub dimension: crate::io::units::Dimension,
+}
+
+/// How an identified parameter's box is mapped onto the normalised
+/// coordinate `u ∈ [0, 1]` that the plan and the local search work in.
+///
+/// - `Linear`: `x = min + u (max − min)` (eq. 17);
+/// - `Log`: `x = min (max/min)^u`, i.e. `ln x` linear in u: equal steps in u
+///   are equal ratios of x, so a plan covers every decade of a wide box
+///   alike, and the local search's steps are relative.
+///
+/// The default (see the model file's `scale`) is `Log` when `min > 0` and
+/// `max/min ≥ 10`, `Linear` otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Scale {
+    /// `x` linear in u.
+    #[default]
+    Linear,
+    /// `ln x` linear in u (needs `min > 0`).
+    Log,
+}
+
+impl Scale {
+    /// The default scale of the box `[min, max]`: log when `min > 0` and
+    /// `max/min ≥ 10`.
+    pub fn default_for(min: f64, max: f64) -> Scale {
+        if min > 0.0 && max >= 10.0 * min {
+            Scale::Log
+        } else {
+            Scale::Linear
+        }
+    }
+
+    /// `"linear"` or `"log"`, as in the model file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Scale::Linear => "linear",
+            Scale::Log => "log",
+        }
+    }
 }
 
 /// A unit for showing numbers: `value_shown = value_si / scale`.

@@ -103,10 +103,11 @@ pub(crate) fn trajectory_figure(
     let last = history.iter().map(|h| h.iteration).max().unwrap_or(0);
     for (j, p) in params.iter().enumerate() {
         let (row, col) = (j / COLUMNS, j % COLUMNS);
-        let width = p.max - p.min;
+        // The search's own coordinate: linear or logarithmic in the box.
+        let map = crate::identification::box_map::BoxMap::new(p.min, p.max, p.scale);
         let norm = |x: f64| {
-            if width > 0.0 {
-                (x - p.min) / width
+            if p.max > p.min {
+                map.to_normalised(x)
             } else {
                 0.5
             }

@@ -348,6 +348,7 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
         "unit",
         "min",
         "max",
+        "scale",
         "nominal",
         "estimate",
         "standard error",
@@ -356,7 +357,7 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
     if input.reference.is_some() {
         header.extend(["reference", "error", "error / s.e."]);
     }
-    let mut numeric = vec![false, false];
+    let mut numeric = vec![false, false, true, true, false];
     numeric.resize(header.len(), true);
     let mut flags = Vec::new();
     let rows: Vec<Vec<String>> = r
@@ -370,6 +371,7 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
                 format!("<span class=\"nw\">{}</span>", escape(&unit(&p.unit))),
                 shown(p, p.min),
                 shown(p, p.max),
+                p.scale.as_str().to_string(),
                 shown(p, p.nominal),
                 format!("<b>{}</b>", shown(p, p.estimate)),
                 se.map_or_else(|| "—".into(), |s| sig(s / p.unit_scale, 3)),
@@ -397,7 +399,9 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
     out.push_str(
         "<p class=\"small\">Values in each parameter's unit from the model file (SI where none \
          is given). Standard errors are Cramér–Rao bounds (eq. 26), valid for white Gaussian \
-         noise and a correct model. Highlighted rows: standard error wider than the box.</p>\n",
+         noise and a correct model. Highlighted rows: standard error wider than the box. \
+         Scale: how the plan and the local search spread over the box (log: equal steps are \
+         equal ratios).</p>\n",
     );
     figures_of(out, figs, "parameters");
     out.push_str("</section>\n");

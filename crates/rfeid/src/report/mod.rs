@@ -281,7 +281,8 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
         out.push(Figure {
             file: "history-parameters.svg".into(),
             section: "history",
-            caption: "Each parameter's trajectory over the iterations, normalised to its box."
+            caption: "Each parameter's trajectory over the iterations, normalised to its box \
+                      (logarithmically for a log scale, as the search saw it)."
                 .into(),
             svg: history::trajectory_figure(&r.history, &r.parameters, input.reference),
         });

@@ -37,6 +37,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
                 std_error: Some(p.value * 0.004 * (1.0 + j as f64)),
                 min,
                 max,
+                scale: p.scale,
                 nominal: p.value,
             }
         })

@@ -123,6 +123,7 @@ pub struct RawParameter {
     pub value: Option<SNum>,
     pub min: Option<SNum>,
     pub max: Option<SNum>,
+    pub scale: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -29,6 +29,7 @@ pub(super) struct ParamDraft {
     /// Spans of the value, min and max texts (min and max: the value's when absent).
     pub(super) value_spans: [Range<usize>; 3],
     pub(super) unit: DisplayUnit,
+    pub(super) scale: Scale,
     pub(super) uses: Vec<(Dimension, Range<usize>, String, String)>,
 }
 

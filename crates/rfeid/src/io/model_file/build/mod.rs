@@ -118,6 +118,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             }
             _ => DisplayUnit::default(),
         };
+        let scale = parameter_scale(&ctx, rp, p.span(), &entry, bounds.map(|b| (b.0 .0, b.1 .0)))?;
         ctx.param_index.insert(name.clone(), i);
         ctx.params.push(ParamDraft {
             name,
@@ -126,6 +127,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             bounds,
             value_spans,
             unit,
+            scale,
             uses: Vec::new(),
         });
     }
@@ -420,4 +422,45 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         gravity,
         files: ctx.files.take(),
     })
+}
+
+/// A parameter's `scale`: `"log"` or `"linear"`, only with a box; log needs
+/// `min > 0`. Without it, [`Scale::default_for`] the box.
+fn parameter_scale(
+    ctx: &Ctx,
+    rp: &crate::io::model_file::raw::RawParameter,
+    span: std::ops::Range<usize>,
+    entry: &str,
+    bounds: Option<(f64, f64)>,
+) -> Result<Scale> {
+    let Some(raw) = &rp.scale else {
+        return Ok(bounds.map_or(Scale::Linear, |(lo, hi)| Scale::default_for(lo, hi)));
+    };
+    let scale = match raw.get_ref().as_str() {
+        "log" => Scale::Log,
+        "linear" => Scale::Linear,
+        other => {
+            return Err(ctx.err(
+                Some(raw.span()),
+                entry,
+                "scale",
+                format!("unknown scale '{other}' (log or linear)"),
+            ))
+        }
+    };
+    match bounds {
+        None => Err(ctx.err(
+            Some(span),
+            entry,
+            "scale",
+            "'scale' applies to identified parameters only: give 'min' and 'max' too",
+        )),
+        Some((lo, _)) if scale == Scale::Log && !(lo > 0.0) => Err(ctx.err(
+            Some(raw.span()),
+            entry,
+            "scale",
+            format!("a log scale needs min > 0 (min is {lo:e})"),
+        )),
+        _ => Ok(scale),
+    }
 }

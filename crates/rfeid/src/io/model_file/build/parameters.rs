@@ -78,6 +78,7 @@ pub(super) fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
             name: p.name.clone(),
             value,
             bounds,
+            scale: p.scale,
             unit: p.unit.clone(),
             dimension: *dim,
         });
