@@ -45,6 +45,11 @@ pub enum Command {
         after_help = "Example:\n  rfeid identify model.toml --data data.csv -o result.json\n  rfeid report result.json -o report/   # then open report/report.html"
     )]
     Report(ReportArgs),
+    /// Merge the shard files of `identify --shard K/N` and finish the identification (local searches, bounds, verdict): the same result as one run.
+    #[command(
+        after_help = "Example:\n  rfeid identify model.toml --data data.csv --shard 0/2 -o shard-0.json\n  rfeid identify model.toml --data data.csv --shard 1/2 -o shard-1.json\n  rfeid merge shard-0.json shard-1.json -o result.json"
+    )]
+    Merge(MergeArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
@@ -169,9 +174,32 @@ pub struct IdentifyArgs {
     /// Also write the HTML report (report.html and SVG figures) into this directory (its parent must exist; an existing report is replaced whole).
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
+    /// Evaluate only shard K of N of the plan (points whose index mod N is K, K = 0 … N−1) and write them to `-o` as a shard file for `rfeid merge`; `auto` takes K and N from SLURM_ARRAY_TASK_ID (minus SLURM_ARRAY_TASK_MIN) and SLURM_ARRAY_TASK_COUNT. A shard file already at `-o` from the same run is resumed.
+    #[arg(long, value_name = "K/N|auto")]
+    pub shard: Option<String>,
     /// Search settings.
     #[command(flatten)]
     pub search: SearchArgs,
+}
+
+/// `rfeid merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shard files of every shard of one run (`identify --shard K/N`).
+    #[arg(required = true)]
+    pub shards: Vec<PathBuf>,
+    /// Result file (JSON); `-` for standard output.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Also write the HTML report into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print the wall time of each phase.
+    #[arg(long)]
+    pub timings: bool,
 }
 
 /// `rfeid demo`.

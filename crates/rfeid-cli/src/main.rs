@@ -25,6 +25,7 @@ fn main() -> ExitCode {
         cli::Command::Identify(a) => commands::identify::run(a, &ui),
         cli::Command::Demo(a) => commands::demo::run(a, &ui),
         cli::Command::Report(a) => commands::report::run(a, &ui),
+        cli::Command::Merge(a) => commands::merge::run(a, &ui),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -19,6 +19,16 @@ use rfeid::simulation::{Response, Simulator};
 /// Runs the command.
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&args.search)?;
+    let shard = args
+        .shard
+        .as_deref()
+        .map(super::shard::parse_shard)
+        .transpose()?;
+    if shard.is_some() && args.report.is_some() {
+        return Err(Failure::input_msg(
+            "--report with --shard: a shard has no result to report; give --report to `rfeid merge`",
+        ));
+    }
     let model = load(&args.model)?;
     let mut plan = Plan::new();
     plan.input(&args.model)
@@ -36,6 +46,9 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let data = read_measurement(&args.data, &model, &sources).map_err(Failure::input_msg)?;
     let measured = match_data(&model, &data)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", args.data.display())))?;
+    if let Some(shard) = shard {
+        return super::shard::run(&args, &model, measured, shard, &outputs, ui);
+    }
     let mut result = run_search(&model, measured.clone(), &args.search, ui)?;
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(args.data.display().to_string());
@@ -108,8 +121,9 @@ pub fn json_conflict(ui: &Ui, outputs: &Checked) -> Result<(), Failure> {
 }
 
 /// Progress on stderr: a bar over the plan, then one line per iteration.
-struct Bars {
-    bar: ProgressBar,
+pub struct Bars {
+    /// The plan's bar.
+    pub bar: ProgressBar,
     quiet: bool,
 }
 
@@ -189,6 +203,32 @@ pub fn run_search(
     a: &SearchArgs,
     ui: &Ui,
 ) -> Result<IdentificationResult, Failure> {
+    let (problem, settings, progress) = prepare(model, measured, a, ui)?;
+    let result = identify(problem, &settings, &progress).map_err(identify_failure)?;
+    progress.bar.finish_and_clear();
+    Ok(result)
+}
+
+/// An identification error as a failure: problems of the settings or the
+/// model are bad input (2), the rest failed computations (1).
+pub fn identify_failure(e: IdentifyError) -> Failure {
+    match e {
+        IdentifyError::NoParameters
+        | IdentifyError::Plan(_)
+        | IdentifyError::NoStarts
+        | IdentifyError::TooFewObservations { .. } => Failure::input_msg(e),
+        _ => Failure::failed(e),
+    }
+}
+
+/// Checks the search settings and builds the problem, the pipeline's
+/// settings and the progress display.
+pub fn prepare<'m>(
+    model: &'m Model,
+    measured: Response,
+    a: &SearchArgs,
+    ui: &Ui,
+) -> Result<(OutputError<'m>, Settings, Bars), Failure> {
     check_limits(a)?;
     start_threads(a.threads)?;
     let s = model.sampling;
@@ -258,15 +298,7 @@ pub fn run_search(
         bar,
         quiet: ui.quiet,
     };
-    let result = identify(problem, &settings, &progress).map_err(|e| match e {
-        IdentifyError::NoParameters
-        | IdentifyError::Plan(_)
-        | IdentifyError::NoStarts
-        | IdentifyError::TooFewObservations { .. } => Failure::input_msg(e),
-        _ => Failure::failed(e),
-    })?;
-    progress.bar.finish_and_clear();
-    Ok(result)
+    Ok((problem, settings, progress))
 }
 
 /// The paper-style tables (Tables 1–2) and diagnostics.

@@ -3,8 +3,8 @@
 use super::bfgs::{Bfgs, BfgsSettings};
 use super::lm::{LevenbergMarquardt, LmSettings};
 use super::output_error::OutputError;
-use super::plan::{LpTau, PlanError};
-use super::plan_eval::evaluate_plan;
+use super::plan::{LpTau, Plan, PlanError};
+use super::plan_eval::{evaluate_indices, rank};
 use super::problem::{sum_of_squares, LeastSquares};
 pub use super::result::StartFailure;
 use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
@@ -229,13 +229,34 @@ fn ssr_of(problem: &OutputError<'_>, g: &crate::simulation::Response) -> Vec<f64
         .collect()
 }
 
-/// Runs the identification of `problem`'s parameters.
+/// J at one plan point, or why it could not be evaluated (in words).
+pub type PointOutcome = Result<f64, String>;
+
+/// Runs the identification of `problem`'s parameters: [`plan`], then
+/// [`evaluate_points`] on every point, then [`finish`].
 pub fn identify(
-    mut problem: OutputError<'_>,
+    problem: OutputError<'_>,
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_start = Instant::now();
+    let plan = plan(&problem, settings)?;
+    progress.plan_started(plan.len());
+    let all: Vec<usize> = (0..plan.len()).collect();
+    let outcomes = evaluate_points(&problem, &plan, &all, progress)?;
+    finish(
+        problem,
+        settings,
+        &plan,
+        outcomes,
+        t_start.elapsed().as_secs_f64(),
+        progress,
+    )
+}
+
+/// Checks the problem against the settings and builds the LP_τ plan
+/// (eq. 18–19) of `settings.plan_points` points.
+pub fn plan(problem: &OutputError<'_>, settings: &Settings) -> Result<Plan, IdentifyError> {
     let r = problem.n_params();
     if r == 0 {
         return Err(IdentifyError::NoParameters);
@@ -249,30 +270,66 @@ pub fn identify(
             parameters: r,
         });
     }
-    let model = problem.simulator().model();
+    Ok(LpTau::new(r)?.plan(settings.plan_points)?)
+}
 
-    // 1. LP_τ plan (eq. 18–19).
-    let plan = LpTau::new(r)?.plan(settings.plan_points)?;
-    progress.plan_started(plan.len());
+/// J (eq. 16) at the plan points at positions `indices`, in parallel, in
+/// the order of `indices`. Each point is evaluated on its own, so its J is
+/// bit-identical whichever subset (shard) or thread evaluates it.
+pub fn evaluate_points(
+    problem: &OutputError<'_>,
+    plan: &Plan,
+    indices: &[usize],
+    progress: &dyn Progress,
+) -> Result<Vec<PointOutcome>, IdentifyError> {
     let tick = || progress.plan_point();
-    let evaluation = evaluate_plan(&problem, &plan, Some(&tick))?;
-    let first_failure = evaluation
-        .outcomes
-        .iter()
-        .find_map(|o| o.as_ref().err().map(|e| e.to_string()));
-    if evaluation.all_failed() {
+    let outcomes = evaluate_indices(problem, plan, indices, Some(&tick))?;
+    Ok(outcomes
+        .into_iter()
+        .map(|o| o.map_err(|e| e.to_string()))
+        .collect())
+}
+
+/// Continues an identification from J at every plan point (`outcomes[k]`
+/// for `plan.point(k)`, from [`evaluate_points`], possibly in pieces):
+/// local searches from the best points, reweighting, Cramér–Rao bounds and
+/// the verdict. `plan_seconds` is the wall time the plan took.
+pub fn finish(
+    mut problem: OutputError<'_>,
+    settings: &Settings,
+    plan: &Plan,
+    outcomes: Vec<PointOutcome>,
+    plan_seconds: f64,
+    progress: &dyn Progress,
+) -> Result<IdentificationResult, IdentifyError> {
+    let t_finish = Instant::now();
+    let r = problem.n_params();
+    if outcomes.len() != plan.len() || plan.dims() != r {
+        return Err(IdentifyError::Plan(PlanError::DimensionMismatch {
+            plan: plan.dims(),
+            problem: r,
+        }));
+    }
+    let model = problem.simulator().model();
+    let n_failed = outcomes.iter().filter(|o| o.is_err()).count();
+    let first_failure = outcomes.iter().find_map(|o| o.as_ref().err().cloned());
+    if n_failed == outcomes.len() {
         return Err(IdentifyError::AllPlanPointsFailed {
             points: plan.len(),
             first: first_failure.unwrap_or_default(),
         });
     }
-    let t_plan = t_start.elapsed().as_secs_f64();
+    let t_plan = plan_seconds;
 
     // 2. Local search from the best few points; keep the best end.
     let t_local = Instant::now();
-    let starts = evaluation.best_few(settings.starts);
+    let starts: Vec<(usize, f64)> = rank(&outcomes)
+        .into_iter()
+        .filter_map(|k| outcomes[k].as_ref().ok().map(|&cost| (k, cost)))
+        .take(settings.starts)
+        .collect();
     let mut ends = Vec::with_capacity(starts.len());
-    let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, evaluation.n_failed);
+    let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, n_failed);
     let (searches, start_failures) = run_starts(&starts, |k, idx, cost| {
         progress.search_started(k, starts.len(), cost);
         local_search(&problem, settings, plan.point(idx), progress)
@@ -454,12 +511,8 @@ pub fn identify(
         from: model.sampling.time(problem.first_sample()),
         plan: PlanSummary {
             points: plan.len(),
-            failed: evaluation.n_failed,
-            costs: evaluation
-                .outcomes
-                .iter()
-                .map(|o| o.as_ref().ok().copied())
-                .collect(),
+            failed: n_failed,
+            costs: outcomes.iter().map(|o| o.as_ref().ok().copied()).collect(),
             starts: starts.iter().map(|s| s.0).collect(),
             first_failure,
         },
@@ -477,7 +530,7 @@ pub fn identify(
             plan: t_plan,
             local_search: t_local,
             uncertainty: t_unc,
-            total: t_start.elapsed().as_secs_f64(),
+            total: plan_seconds + t_finish.elapsed().as_secs_f64(),
         },
         threads: rayon::current_num_threads(),
         source: Default::default(),

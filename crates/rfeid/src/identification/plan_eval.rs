@@ -12,6 +12,9 @@ use rayon::prelude::*;
 use super::plan::{Plan, PlanError};
 use super::problem::{evaluate_cost, EvalError, LeastSquares};
 
+/// J at one point, or why its evaluation failed.
+pub type Outcome<E> = Result<f64, EvalError<E>>;
+
 /// The criterion J at every point of a plan.
 #[derive(Debug, Clone)]
 pub struct PlanEvaluation<E> {
@@ -76,20 +79,8 @@ pub fn evaluate_plan<P: LeastSquares>(
             problem: problem.n_params(),
         });
     }
-    let n_residuals = problem.n_residuals();
-    let outcomes: Vec<Result<f64, EvalError<P::Error>>> = (0..plan.len())
-        .into_par_iter()
-        .map_init(
-            || (problem.workspace(), vec![0.0; n_residuals]),
-            |(ws, r), k| {
-                let outcome = evaluate_cost(problem, ws, plan.point(k), r);
-                if let Some(progress) = progress {
-                    progress();
-                }
-                outcome
-            },
-        )
-        .collect();
+    let all: Vec<usize> = (0..plan.len()).collect();
+    let outcomes = evaluate_indices(problem, plan, &all, progress)?;
     let n_failed = outcomes.iter().filter(|o| o.is_err()).count();
     let ranking = rank(&outcomes);
     Ok(PlanEvaluation {
@@ -100,9 +91,47 @@ pub fn evaluate_plan<P: LeastSquares>(
     })
 }
 
+/// J at the points of `plan` at positions `indices` (each < `plan.len()`),
+/// in the order of `indices`, in parallel on the current rayon pool. Each
+/// point is evaluated on its own, so its outcome does not depend on which
+/// other points are evaluated, nor on the thread count.
+pub fn evaluate_indices<P: LeastSquares>(
+    problem: &P,
+    plan: &Plan,
+    indices: &[usize],
+    progress: Option<&(dyn Fn() + Sync)>,
+) -> Result<Vec<Outcome<P::Error>>, PlanError> {
+    if plan.dims() != problem.n_params() {
+        return Err(PlanError::DimensionMismatch {
+            plan: plan.dims(),
+            problem: problem.n_params(),
+        });
+    }
+    if let Some(&k) = indices.iter().find(|&&k| k >= plan.len()) {
+        return Err(PlanError::IndexOutOfRange {
+            first: plan.sobol_index(k),
+            count: 1,
+        });
+    }
+    let n_residuals = problem.n_residuals();
+    Ok(indices
+        .par_iter()
+        .map_init(
+            || (problem.workspace(), vec![0.0; n_residuals]),
+            |(ws, r), &k| {
+                let outcome = evaluate_cost(problem, ws, plan.point(k), r);
+                if let Some(progress) = progress {
+                    progress();
+                }
+                outcome
+            },
+        )
+        .collect())
+}
+
 /// Positions sorted by J, failed last; the sort is stable so ties keep plan
 /// order.
-fn rank<E>(outcomes: &[Result<f64, E>]) -> Vec<usize> {
+pub fn rank<E>(outcomes: &[Result<f64, E>]) -> Vec<usize> {
     let mut ranking: Vec<usize> = (0..outcomes.len()).collect();
     ranking.sort_by(|&a, &b| match (&outcomes[a], &outcomes[b]) {
         (Ok(ja), Ok(jb)) => ja.total_cmp(jb),

@@ -1,0 +1,172 @@
+//! `rfeid merge SHARD… -o RESULT.json`: the plan's values from every shard
+//! of one run, then the rest of the identification (local searches, bounds,
+//! verdict).
+//!
+//! The shards must carry one hash, one shard count and every shard number
+//! exactly once, each complete. The model and data files they name are
+//! read again and must still give that hash. The local searches then start
+//! from the same plan values as a single run's (J is written with
+//! round-trip exactness), so the result equals the single run's in every
+//! field but the wall times (`timings`, where `plan` is the shards' summed
+//! wall time) and the thread count.
+use super::common::load;
+use super::identify::{
+    identify_failure, json_conflict, prepare, result_json, show_result, suspect_status,
+};
+use super::shard::{read_shard, resolve, run_hash, share, ShardFile};
+use crate::cli::MergeArgs;
+use crate::diagnostics::Failure;
+use crate::outputs::Plan;
+use crate::ui::Ui;
+use rfeid::identification::pipeline::{finish, plan, PointOutcome};
+use rfeid::io::data_file::read_measurement;
+use rfeid::measurement::match_data;
+
+/// Runs the command.
+pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
+    let shards: Vec<ShardFile> = args
+        .shards
+        .iter()
+        .map(|p| read_shard(p))
+        .collect::<Result<_, _>>()?;
+    let first = &shards[0];
+    let first_path = &args.shards[0];
+    check_together(&args, &shards)?;
+    let model_path = resolve(&first.model, first_path);
+    let data_path = resolve(&first.data, first_path);
+    let model = load(&model_path)?;
+    let mut outputs = Plan::new();
+    outputs.input(&model_path).input(&data_path);
+    for p in &args.shards {
+        outputs.input(p);
+    }
+    for f in &model.files {
+        outputs.input(f);
+    }
+    outputs.file("-o", &args.output);
+    if let Some(dir) = &args.report {
+        outputs.report("--report", dir);
+    }
+    let outputs = outputs.check()?;
+    json_conflict(ui, &outputs)?;
+    let hash = run_hash(&model_path, &model, &data_path, &first.search)?;
+    if hash != first.hash {
+        return Err(Failure::input_msg(format!(
+            "{} or {} changed since the shards were computed (hash {hash}, the shards' {}): run the shards again",
+            model_path.display(),
+            data_path.display(),
+            first.hash
+        )));
+    }
+    let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
+    let data = read_measurement(&data_path, &model, &sources).map_err(Failure::input_msg)?;
+    let measured = match_data(&model, &data)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", data_path.display())))?;
+    let search = first
+        .search
+        .to_args(args.threads, args.timings)
+        .map_err(|e| {
+            Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
+        })?;
+    let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
+    progress.bar.finish_and_clear();
+    let plan = plan(&problem, &settings).map_err(identify_failure)?;
+    let mut outcomes: Vec<Option<PointOutcome>> = vec![None; plan.len()];
+    for (s, path) in shards.iter().zip(&args.shards) {
+        for p in &s.points {
+            let slot = outcomes.get_mut(p.index).ok_or_else(|| {
+                Failure::input_msg(format!(
+                    "{}: point {} lies beyond the plan of {}",
+                    path.display(),
+                    p.index,
+                    plan.len()
+                ))
+            })?;
+            *slot = Some(match (&p.cost, &p.failure) {
+                (Some(c), None) => Ok(*c),
+                (None, Some(f)) => Err(f.clone()),
+                _ => {
+                    return Err(Failure::input_msg(format!(
+                        "{}: point {} needs exactly one of cost and failure",
+                        path.display(),
+                        p.index
+                    )))
+                }
+            });
+        }
+    }
+    let outcomes: Vec<PointOutcome> = outcomes
+        .into_iter()
+        .enumerate()
+        .map(|(i, o)| o.ok_or_else(|| Failure::input_msg(format!("no shard holds plan point {i}"))))
+        .collect::<Result<_, _>>()?;
+    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
+    let mut result = finish(problem, &settings, &plan, outcomes, seconds, &progress)
+        .map_err(identify_failure)?;
+    result.source.model = Some(first.model.clone());
+    result.source.data = Some(first.data.clone());
+    let mut batch = outputs.batch();
+    if args.report.is_some() {
+        let title = format!("{} with {}", first.model, first.data);
+        let files = super::report::render(&model, &result, &measured, None, &title)?;
+        batch.report("--report", &files)?;
+    }
+    batch.file("-o", result_json(&result)?)?;
+    batch.commit()?;
+    let taken = outputs.uses_stdout();
+    show_result(&model, &result, "nominal", args.timings, taken, ui)?;
+    if !taken {
+        ui.note(format!("result written to {}", args.output.display()));
+    }
+    suspect_status(&result, &args.output.display().to_string())
+}
+
+/// The shards belong to one run, cover every shard number once, and are
+/// each complete.
+fn check_together(args: &MergeArgs, shards: &[ShardFile]) -> Result<(), Failure> {
+    let first = &shards[0];
+    let mut seen = vec![false; first.of];
+    for (s, path) in shards.iter().zip(&args.shards) {
+        let name = path.display();
+        if s.hash != first.hash || s.of != first.of || s.search != first.search {
+            return Err(Failure::input_msg(format!(
+                "{name}: belongs to another run than {} (hash {} / {} shards, against {} / {})",
+                args.shards[0].display(),
+                s.hash,
+                s.of,
+                first.hash,
+                first.of
+            )));
+        }
+        if s.shard >= s.of {
+            return Err(Failure::input_msg(format!(
+                "{name}: shard {} of {} does not exist",
+                s.shard, s.of
+            )));
+        }
+        if std::mem::replace(&mut seen[s.shard], true) {
+            return Err(Failure::input_msg(format!(
+                "{name}: shard {}/{} is given twice",
+                s.shard, s.of
+            )));
+        }
+        let mine = share(s.shard, s.of, s.search.plan);
+        let have: Vec<usize> = s.points.iter().map(|p| p.index).collect();
+        if !s.complete || have != mine {
+            return Err(Failure::input_msg(format!(
+                "{name}: shard {}/{} is not complete ({} of its {} points): run it again to resume it",
+                s.shard,
+                s.of,
+                have.len(),
+                mine.len()
+            )));
+        }
+    }
+    if let Some(k) = seen.iter().position(|s| !s) {
+        return Err(Failure::input_msg(format!(
+            "shard {k}/{} is missing",
+            first.of
+        )));
+    }
+    Ok(())
+}
