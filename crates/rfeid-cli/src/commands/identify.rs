@@ -11,6 +11,7 @@ use rfeid::identification::pipeline::{
     identify, IdentifyError, Method, Progress, Settings, Weighting,
 };
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::verdict::Reason;
 use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::{constant_sensors, match_data};
 use rfeid::model::Model;
@@ -458,6 +459,26 @@ fn write_verdict(out: &mut String, r: &IdentificationResult) {
         );
         for reason in &v.reasons {
             let _ = writeln!(out, "  - {reason}");
+        }
+        let search = v.reasons.iter().any(|r| {
+            matches!(
+                r,
+                Reason::AtBound { .. }
+                    | Reason::DistinctMinima { .. }
+                    | Reason::PoorFit { .. }
+                    | Reason::NotWhite { .. }
+                    | Reason::NoiseMismatch { .. }
+                    | Reason::IterationLimit { .. }
+            )
+        });
+        if search {
+            let _ = writeln!(
+                out,
+                "hint: a wrong minimum is the usual cause on wide boxes: a larger plan with more \
+                 starts (e.g. --plan {} --starts 4) often finds a lower one; if the estimate \
+                 stays on a bound, widen that box; if the fit stays poor, check the model",
+                (4 * r.plan.points).max(400)
+            );
         }
     }
 }

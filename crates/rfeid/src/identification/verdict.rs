@@ -338,10 +338,17 @@ impl fmt::Display for Reason {
                 f,
                 "{sensor}'s measured signal is constant: it carries no information to fit"
             ),
-            Reason::NotWhite { sensor, statistic, p_value, lags, level } => write!(
-                f,
-                "the residuals of {sensor} are not white (Ljung–Box Q = {statistic:.1} on {lags} lags, p = {p_value:.1e} < {level:e}): a sign of model error or a wrong minimum"
-            ),
+            Reason::NotWhite { sensor, statistic, p_value, lags, level } => {
+                let p = if *p_value > 0.0 {
+                    format!("p = {p_value:.1e}")
+                } else {
+                    "p < 1e-300".to_string()
+                };
+                write!(
+                    f,
+                    "the residuals of {sensor} are not white (Ljung–Box Q = {statistic:.1} on {lags} lags, {p} < {level:e}): a sign of model error or a wrong minimum"
+                )
+            }
             Reason::NoiseMismatch { sensor, ratio, threshold } => write!(
                 f,
                 "the residual variance of {sensor} is {ratio:.2} times the noise level its first differences show (more than {threshold}): a systematic misfit, from model error or a wrong minimum"
