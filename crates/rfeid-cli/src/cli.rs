@@ -79,9 +79,9 @@ pub struct SimulateArgs {
     /// Set a parameter, e.g. `--set a_n1=450e13` or `--set a_n1="450 daN/um^2"` (repeatable).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Integrator steps per sample (overrides the model's `substeps`).
-    #[arg(long)]
-    pub substeps: Option<usize>,
+    /// Integrator accuracy.
+    #[command(flatten)]
+    pub steps: StepArgs,
     /// Also plot the responses to this SVG file (`-` for standard output).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
@@ -113,6 +113,19 @@ pub struct ModalArgs {
     pub json_file: Option<PathBuf>,
 }
 
+/// The integrator's accuracy, for every command that simulates.
+#[derive(Debug, Args)]
+pub struct StepArgs {
+    /// Relative RMS error of the simulated signals that the integrator's steps per sample are
+    /// chosen for (overrides the model's `tolerance`; default 1e-8, from 1e-13 to 1e-2).
+    #[arg(long, value_name = "REL")]
+    pub tolerance: Option<f64>,
+    /// Fix the integrator's steps per sample instead (1 to 1000; overrides the model's
+    /// `substeps` and the automatic choice).
+    #[arg(long, value_name = "N")]
+    pub substeps: Option<usize>,
+}
+
 /// Settings shared by `identify` and `demo`.
 #[derive(Debug, Args)]
 pub struct SearchArgs {
@@ -137,6 +150,9 @@ pub struct SearchArgs {
     /// Print the wall time of each phase.
     #[arg(long)]
     pub timings: bool,
+    /// Integrator accuracy.
+    #[command(flatten)]
+    pub steps: StepArgs,
 }
 
 /// `--method`.

@@ -136,14 +136,14 @@ fn states() -> (States, f64) {
     // (the default method is DOP853). The model is linear: no crossings.
     let rk4 = rfeid::simulation::Integrator {
         tableau: rfeid::simulation::tableau::RK4,
-        substeps: model.sampling.substeps,
+        substeps: model.sampling.substeps.expect("the model fixes substeps"),
         locate_crossings: true,
     };
     let out = simulate_nominal(&model, Some(rk4));
     let n = model.sampling.n_samples();
     let read =
         |base: usize, k: usize| coordinates(std::array::from_fn(|c| out.sensor(base + c)[k]));
-    let h = 1.0 / (model.sampling.sample_rate * model.sampling.substeps as f64);
+    let h = 1.0 / (model.sampling.sample_rate * model.sampling.substeps.expect("fixed") as f64);
     (
         States {
             q: (0..n).map(|k| read(0, k)).collect(),

@@ -171,7 +171,7 @@ fn knee_column_geometry_and_experiment_are_spec_section_4() {
     assert_eq!(m.gravity, None);
 }
 
-/// Defaults: global axes, no damping, 10 substeps, an excitation named by
+/// Defaults: global axes, no damping, automatic steps, an excitation named by
 /// its number, a chirp that sweeps the whole record.
 #[test]
 fn defaults_are_those_of_the_spec() {
@@ -215,7 +215,8 @@ quantity = "velocity"
     assert_eq!(m.elements[0].components[1].law, Law::None);
     assert_eq!(m.elements[0].components[1].dof, 5);
     assert_eq!(m.elements[0].components[1].damping, Value::Fixed(3.0));
-    assert_eq!(m.sampling.substeps, rfeid::simulation::DEFAULT_SUBSTEPS);
+    assert_eq!(m.sampling.substeps, None);
+    assert_eq!(m.sampling.tolerance, rfeid::simulation::DEFAULT_TOLERANCE);
     assert_eq!(m.sampling.n_samples(), 500);
     assert_eq!(m.excitations[0].name, "excitation 1");
     assert_eq!(m.excitations[0].direction, Vector3::z());

@@ -207,8 +207,10 @@ fn oscillator_matches_closed_form_to_rounding_with_dop853() {
     }
 }
 
-/// The model's own `substeps` (default 1) is what `Simulator::new` uses,
-/// with the default method (DOP853, crossings located).
+/// Without `substeps`, `Simulator::new` chooses the steps for the model's
+/// tolerance (here one step per sample is enough) and records the estimate;
+/// the model's own `substeps` is what it uses otherwise, with the default
+/// method (DOP853, crossings located) either way.
 #[test]
 fn simulator_uses_the_model_substeps() {
     let dop = |substeps| Integrator {
@@ -217,16 +219,23 @@ fn simulator_uses_the_model_substeps() {
         locate_crossings: true,
     };
     let m = model(&sdof(C_DAMPED));
-    assert_eq!(m.sampling.substeps, rfeid::simulation::DEFAULT_SUBSTEPS);
-    assert_eq!(
-        rfeid::simulation::Simulator::new(&m).integrator(),
-        dop(rfeid::simulation::DEFAULT_SUBSTEPS)
+    assert_eq!(m.sampling.substeps, None);
+    assert_eq!(m.sampling.tolerance, rfeid::simulation::DEFAULT_TOLERANCE);
+    let sim = rfeid::simulation::Simulator::new(&m);
+    assert_eq!(sim.integrator(), dop(1));
+    let steps = sim.steps();
+    assert!(steps.automatic);
+    assert!(
+        steps.estimated_error.unwrap() <= m.sampling.tolerance,
+        "{steps:?}"
     );
     let m = model(&sdof(C_DAMPED).replace(
         "sample_rate = 2000.0",
         "sample_rate = 2000.0\nsubsteps = 20",
     ));
-    assert_eq!(rfeid::simulation::Simulator::new(&m).integrator(), dop(20));
+    let sim = rfeid::simulation::Simulator::new(&m);
+    assert_eq!(sim.integrator(), dop(20));
+    assert!(!sim.steps().automatic);
     assert_eq!(m.sampling.n_samples(), 500);
 }
 

@@ -58,8 +58,13 @@ quantity = "displacement"
     )
 }
 
+/// One step per sample, fixed: the steps these tests are about.
+fn one_step(model: &Model) -> Simulator<'_> {
+    Simulator::with_integrator(model, rfeid::simulation::steps::integrator(1))
+}
+
 fn run(model: &Model, params: &[f64]) -> Result<(), SimulationError> {
-    let sim = Simulator::new(model);
+    let sim = one_step(model);
     sim.run(
         params,
         &mut Workspace::default(),
@@ -68,7 +73,7 @@ fn run(model: &Model, params: &[f64]) -> Result<(), SimulationError> {
 }
 
 fn run_sens(model: &Model, params: &[f64]) -> Result<(), SimulationError> {
-    let sim = Simulator::new(model);
+    let sim = one_step(model);
     let mut sens = Sensitivities {
         wrt: vec![],
         values: vec![],
@@ -86,8 +91,14 @@ fn run_sens(model: &Model, params: &[f64]) -> Result<(), SimulationError> {
 /// the first 10 ms of a 100 s record.
 fn assert_diverged_early(r: Result<(), SimulationError>, what: &str) {
     match r {
-        Err(SimulationError::Diverged { time }) => {
-            println!("{what}: diverged at t = {time} s");
+        Err(e @ SimulationError::Diverged { time, .. }) => {
+            println!("{what}: {e}");
+            // The message names the fastest mode and what to do.
+            let msg = e.to_string();
+            assert!(
+                msg.contains("fastest mode") && msg.contains("Hz") && msg.contains("substeps"),
+                "{msg}"
+            );
             assert!(time <= 0.01, "{what}: detected late, at t = {time} s");
         }
         other => panic!("{what}: expected Diverged, got {other:?}"),
@@ -108,7 +119,7 @@ fn just_past_the_stability_limit_diverges() {
     let k = (3.0e4_f64).powi(2); // ω = 3e4 rad/s, h = 1e-4 s
     let model = model(&oscillator(&format!("{{ k = {k:e} }}"), ""));
     match run(&model, &model.nominal()) {
-        Err(SimulationError::Diverged { time }) => {
+        Err(SimulationError::Diverged { time, .. }) => {
             println!("ω h = 3: diverged at t = {time} s");
             assert!(time < 0.1);
         }

@@ -52,11 +52,11 @@ pub fn summary(model: &Model) -> String {
         model.sensors.len()
     ));
     out.push_str(&format!(
-        "sampling: {} s at {} Hz = {} samples; integrator: {} steps per sample\n",
+        "sampling: {} s at {} Hz = {} samples; {}\n",
         sig(s.duration, 6),
         sig(s.sample_rate, 6),
         s.n_samples(),
-        s.substeps
+        s.steps_text()
     ));
     if let Some(g) = model.gravity {
         out.push_str(&format!(

@@ -68,3 +68,43 @@ pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
         _ => Failure::failed(format!("{what}: {e}")),
     }
 }
+
+/// Applies `--tolerance` and `--substeps` to the model's sampling.
+pub fn apply_steps(model: &mut Model, a: &crate::cli::StepArgs) -> Result<(), Failure> {
+    use rfeid::simulation::{MAX_SUBSTEPS, TOLERANCE_RANGE};
+    if let Some(t) = a.tolerance {
+        if !TOLERANCE_RANGE.contains(&t) {
+            return Err(Failure::input_msg(format!(
+                "--tolerance {t}: {}",
+                rfeid::simulation::steps::tolerance_range_text()
+            )));
+        }
+        model.sampling.tolerance = t;
+    }
+    if let Some(s) = a.substeps {
+        if !(1..=MAX_SUBSTEPS).contains(&s) {
+            return Err(Failure::input_msg(format!(
+                "--substeps {s}: must be 1 to {MAX_SUBSTEPS}"
+            )));
+        }
+        model.sampling.substeps = Some(s);
+    }
+    Ok(())
+}
+
+/// The integrator's steps in words, with their estimated error.
+pub fn steps_note(steps: &rfeid::simulation::StepChoice) -> String {
+    format!(
+        "integrator: {} step(s) per sample ({}), estimated relative error {}",
+        steps.substeps,
+        if steps.automatic {
+            format!("chosen for tolerance {:.0e}", steps.tolerance)
+        } else {
+            "fixed".to_string()
+        },
+        steps
+            .estimated_error
+            .map(|e| format!("{e:.1e}"))
+            .unwrap_or_else(|| "not estimated".into())
+    )
+}

@@ -1,4 +1,5 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
+use super::common::apply_steps;
 use super::identify::{
     check_limits, json_conflict, result_json, run_search, show_result, suspect_status,
 };
@@ -24,7 +25,8 @@ pub fn demo_model() -> Result<Model, Failure> {
 
 /// The demo's data: the model at its true (nominal) values, plus seeded noise.
 pub fn demo_data(model: &Model, noise: Option<f64>, seed: u64) -> Result<Response, Failure> {
-    let sim = Simulator::new(model);
+    let sim = Simulator::choose(model, &model.nominal())
+        .map_err(|e| Failure::failed(format!("simulating the data failed: {e}")))?;
     let mut data = sim.response_buffer();
     sim.run(&model.nominal(), &mut Workspace::default(), &mut data)
         .map_err(|e| Failure::failed(format!("simulating the data failed: {e}")))?;
@@ -48,7 +50,8 @@ pub fn run(args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
-    let model = demo_model()?;
+    let mut model = demo_model()?;
+    apply_steps(&mut model, &args.search.steps)?;
     let data = demo_data(&model, args.noise, args.seed)?;
     match args.noise {
         Some(f) => ui.note(format!(

@@ -1,5 +1,5 @@
 //! `rfeid identify`: the full pipeline on measured data.
-use super::common::load;
+use super::common::{apply_steps, load, simulation_failure, steps_note};
 use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
@@ -30,7 +30,8 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
             "--report with --shard: a shard has no result to report; give --report to `rfeid merge`",
         ));
     }
-    let model = load(&args.model)?;
+    let mut model = load(&args.model)?;
+    apply_steps(&mut model, &args.search.steps)?;
     let mut plan = Plan::new();
     plan.input(&args.model)
         .input(&args.data)
@@ -283,7 +284,14 @@ pub fn prepare<'m>(
         },
         ..Settings::default()
     };
-    let problem = OutputError::new(Simulator::new(model), measured, first);
+    let sim = Simulator::choose(model, &model.nominal()).map_err(|e| {
+        simulation_failure(
+            "choosing the integrator's steps at the nominal parameter values",
+            e,
+        )
+    })?;
+    ui.note(steps_note(&sim.steps()));
+    let problem = OutputError::new(sim, measured, first);
     let target = if ui.quiet {
         ProgressDrawTarget::hidden()
     } else {

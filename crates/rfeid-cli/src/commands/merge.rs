@@ -9,7 +9,7 @@
 //! round-trip exactness), so the result equals the single run's in every
 //! field but the wall times (`timings`, where `plan` is the shards' summed
 //! wall time) and the thread count.
-use super::common::load;
+use super::common::{apply_steps, load};
 use super::identify::{
     identify_failure, json_conflict, prepare, result_json, show_result, suspect_status,
 };
@@ -34,7 +34,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     check_together(&args, &shards)?;
     let model_path = resolve(&first.model, first_path);
     let data_path = resolve(&first.data, first_path);
-    let model = load(&model_path)?;
+    let mut model = load(&model_path)?;
     let mut outputs = Plan::new();
     outputs.input(&model_path).input(&data_path);
     for p in &args.shards {
@@ -68,6 +68,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         .map_err(|e| {
             Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
         })?;
+    apply_steps(&mut model, &search.steps)?;
     let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
     progress.bar.finish_and_clear();
     let plan = plan(&problem, &settings).map_err(identify_failure)?;

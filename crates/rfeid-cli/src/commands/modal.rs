@@ -24,7 +24,8 @@ pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
     json_conflict(ui, &outputs)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
-    let sim = Simulator::new(&model);
+    // The modes do not depend on the integrator's steps.
+    let sim = Simulator::with_integrator(&model, rfeid::simulation::steps::integrator(1));
     let modal = modal_analysis(&sim, &params)
         .map_err(|e| simulation_failure("modal analysis failed", e))?;
     let coordinates: Vec<String> = model

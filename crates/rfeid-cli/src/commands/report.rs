@@ -128,7 +128,13 @@ pub fn render(
         })?;
         params[i] = p.estimate;
     }
-    let sim = Simulator::new(model);
+    // The steps the identification ended with, as recorded.
+    let sim = match &result.simulation {
+        Some(steps) => {
+            Simulator::with_integrator(model, rfeid::simulation::steps::integrator(steps.substeps))
+        }
+        None => Simulator::new(model),
+    };
     let mut fitted = sim.response_buffer();
     sim.run(&params, &mut Workspace::default(), &mut fitted)
         .map_err(|e| Failure::failed(format!("simulating at the estimate failed: {e}")))?;

@@ -45,6 +45,12 @@ pub struct SearchSpec {
     pub weights: String,
     /// `--from`, s.
     pub from: f64,
+    /// `--tolerance`.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// `--substeps`.
+    #[serde(default)]
+    pub substeps: Option<usize>,
 }
 
 impl SearchSpec {
@@ -59,6 +65,8 @@ impl SearchSpec {
             method: name(a.method.to_possible_value()),
             weights: name(a.weights.to_possible_value()),
             from: a.from,
+            tolerance: a.steps.tolerance,
+            substeps: a.steps.substeps,
         }
     }
 
@@ -72,6 +80,10 @@ impl SearchSpec {
             threads,
             from: self.from,
             timings,
+            steps: crate::cli::StepArgs {
+                tolerance: self.tolerance,
+                substeps: self.substeps,
+            },
         })
     }
 }

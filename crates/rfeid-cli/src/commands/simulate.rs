@@ -1,16 +1,17 @@
 //! `rfeid simulate`: the response at nominal (or `--set`) parameter values.
-use super::common::{apply_sets, load, simulation_failure};
+use super::common::{apply_sets, apply_steps, load, simulation_failure, steps_note};
 use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv_to;
 use rfeid::measurement::{add_noise, check_noise, rms, to_timeseries};
-use rfeid::simulation::{Integrator, Simulator, Workspace};
+use rfeid::simulation::{Simulator, Workspace};
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
-    let model = load(&args.model)?;
+    let mut model = load(&args.model)?;
+    apply_steps(&mut model, &args.steps)?;
     let mut plan = Plan::new();
     plan.input(&args.model).file("-o", &args.output);
     for f in &model.files {
@@ -34,19 +35,9 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
             )));
         }
     }
-    let mut sim = Simulator::new(&model);
-    if let Some(s) = args.substeps {
-        if !(1..=1000).contains(&s) {
-            return Err(Failure::input_msg("--substeps must be 1 to 1000"));
-        }
-        sim = Simulator::with_integrator(
-            &model,
-            Integrator {
-                substeps: s,
-                ..sim.integrator()
-            },
-        );
-    }
+    let sim = Simulator::choose(&model, &params)
+        .map_err(|e| simulation_failure("choosing the integrator's steps", e))?;
+    let steps = sim.steps();
     let mut out = sim.response_buffer();
     let start = std::time::Instant::now();
     sim.run(&params, &mut Workspace::default(), &mut out)
@@ -75,6 +66,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
             "output": args.output,
             "samples": out.n_samples,
             "elapsed_ms": elapsed.as_secs_f64() * 1e3,
+            "simulation": steps,
             "sensors": model.sensors.iter().enumerate().map(|(c, s)| serde_json::json!({
                 "name": s.name, "unit": s.kind.unit(), "rms": rms(out.sensor(c)),
             })).collect::<Vec<_>>(),
@@ -87,6 +79,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         elapsed.as_secs_f64() * 1e3,
         args.output.display()
     ));
+    ui.note(steps_note(&steps));
     for (c, s) in model.sensors.iter().enumerate() {
         ui.note(format!(
             "  {:<16} RMS {:.4e} {}",

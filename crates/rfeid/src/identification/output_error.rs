@@ -124,6 +124,12 @@ impl<'m> OutputError<'m> {
         &self.sim
     }
 
+    /// Simulates with `steps` steps per sample from now on (the criterion
+    /// changes with them: use between searches, never within one).
+    pub fn set_steps(&mut self, steps: crate::simulation::StepChoice) {
+        self.sim.set_steps(steps);
+    }
+
     /// The measured signals.
     pub fn measured(&self) -> &Response {
         &self.measured

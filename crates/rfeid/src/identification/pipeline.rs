@@ -11,7 +11,8 @@ use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummar
 use super::termination::{SolveError, StopReason};
 use super::uncertainty::{cramer_rao_mapped, IdentifiabilityWarning, UncertaintySettings};
 use super::verdict::{assess, Evidence, StartEnd, VerdictSettings};
-use crate::simulation::SimulationError;
+use crate::simulation::steps::{choose_steps, estimate_error};
+use crate::simulation::{SimulationError, StepChoice};
 use nalgebra::DMatrix;
 use std::time::Instant;
 
@@ -394,6 +395,53 @@ pub fn finish(
             best = s;
         }
     }
+    // The steps per sample were chosen before the search and held fixed (so
+    // that J stays smooth); check them at the estimate, and if it needs
+    // finer ones, continue the search with those.
+    let mut step_warnings = Vec::new();
+    for _ in 0..3 {
+        let mut x = Vec::new();
+        problem.all_params(&best.u, &mut x);
+        let held = problem.simulator().steps();
+        let checked = match held.automatic {
+            true => choose_steps(model, &x, held.tolerance, held.substeps),
+            false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
+                estimated_error: Some(e),
+                runs: 2,
+                ..held
+            }),
+        };
+        let c = match checked {
+            Ok(c) => c,
+            Err(e) => {
+                step_warnings.push(format!(
+                    "the simulation's accuracy at the estimate could not be checked: {e}"
+                ));
+                break;
+            }
+        };
+        sims += c.runs;
+        problem.set_steps(StepChoice {
+            runs: held.runs + c.runs,
+            ..c
+        });
+        if c.substeps == held.substeps {
+            if let Some(e) = c.estimated_error.filter(|e| *e > c.tolerance) {
+                step_warnings.push(format!(
+                    "the fixed {} step(s) per sample give an estimated relative error of {e:.2e} \
+                     at the estimate, more than the tolerance {:.1e}; leave `substeps` unset to \
+                     have them chosen",
+                    c.substeps, c.tolerance
+                ));
+            }
+            break;
+        }
+        let s = local_search(&problem, settings, &best.u, progress)?;
+        sims += s.residual_evals;
+        sims_sens += s.jacobian_evals;
+        failed += s.failed;
+        best = s;
+    }
     let t_local = t_local.elapsed().as_secs_f64();
 
     // 3. Cramér–Rao bounds (eq. 26–29) from the exact Jacobian at the estimate.
@@ -448,10 +496,11 @@ pub fn finish(
             }
         })
         .collect();
-    let warnings = uncertainty
+    let mut warnings: Vec<String> = uncertainty
         .as_ref()
         .map(|c| c.warnings.iter().map(|w| describe(w, &names)).collect())
         .unwrap_or_default();
+    warnings.extend(step_warnings);
     let fitted = problem.simulate(&best.u);
     let ssr = match &fitted {
         Ok(g) => ssr_of(&problem, g).iter().sum(),
@@ -535,6 +584,7 @@ pub fn finish(
         threads: rayon::current_num_threads(),
         source: Default::default(),
         verdict: Some(verdict),
+        simulation: Some(problem.simulator().steps()),
     })
 }
 

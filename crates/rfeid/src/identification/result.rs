@@ -151,6 +151,10 @@ pub struct IdentificationResult {
     /// (absent in results written before verdicts existed).
     #[serde(default)]
     pub verdict: Option<Verdict>,
+    /// The integrator's steps per sample used, and the estimated relative
+    /// RMS error of the simulated signals at the estimate.
+    #[serde(default)]
+    pub simulation: Option<crate::simulation::StepChoice>,
 }
 
 impl IdentificationResult {

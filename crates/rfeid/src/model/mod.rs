@@ -255,8 +255,13 @@ pub struct Sampling {
     pub duration: f64,
     /// Sample rate, Hz.
     pub sample_rate: f64,
-    /// Integrator steps per sample interval.
-    pub substeps: usize,
+    /// Integrator steps per sample interval, if fixed by the user (an expert
+    /// override); `None`: chosen automatically to meet `tolerance`
+    /// ([`crate::simulation::steps`]).
+    pub substeps: Option<usize>,
+    /// Relative RMS error of the simulated signals that the automatic steps
+    /// aim at ([`crate::simulation::DEFAULT_TOLERANCE`] unless set).
+    pub tolerance: f64,
 }
 
 impl Sampling {
@@ -268,6 +273,18 @@ impl Sampling {
     /// Time of sample k.
     pub fn time(&self, k: usize) -> f64 {
         k as f64 / self.sample_rate
+    }
+
+    /// The integrator's steps per sample in words: fixed, or automatic for
+    /// the tolerance.
+    pub fn steps_text(&self) -> String {
+        match self.substeps {
+            Some(s) => format!("{s} integrator step(s) per sample (fixed)"),
+            None => format!(
+                "integrator steps per sample chosen for a relative error of {:.0e}",
+                self.tolerance
+            ),
+        }
     }
 }
 

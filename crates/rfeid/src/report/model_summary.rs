@@ -87,8 +87,8 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
     let _ = writeln!(
         out,
         "<p>{} bodies ({} degrees of freedom), {} spring–damping elements, {} excitation(s), \
-         {} sensor(s); {} parameters, {} identified. Record: {} s at {} Hz ({} samples, {} \
-         integrator step(s) per sample){}.</p>",
+         {} sensor(s); {} parameters, {} identified. Record: {} s at {} Hz ({} samples, \
+         {}){}.</p>",
         model.bodies.len(),
         model.n_dof(),
         model.elements.len(),
@@ -99,7 +99,7 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
         short(s.duration, 4),
         short(s.sample_rate, 6),
         s.n_samples(),
-        s.substeps,
+        s.steps_text(),
         model
             .gravity
             .map(|g| format!("; gravity {} m/s², from static equilibrium", vector(&g)))

@@ -7,28 +7,83 @@ pub mod modal;
 pub mod run;
 mod sines;
 mod stepper;
+pub mod steps;
 pub mod structure;
 pub mod system;
 pub mod tableau;
 mod tangent;
 
 pub use run::{Integrator, Response, Sensitivities, Simulator, Workspace};
+pub use steps::StepChoice;
 
 /// The default integration method.
 pub const DEFAULT_TABLEAU: tableau::Tableau = tableau::DOP853;
 
-/// Default integrator steps per sample interval.
-pub const DEFAULT_SUBSTEPS: usize = 1;
+/// The most integrator steps per sample interval, fixed or automatic.
+pub const MAX_SUBSTEPS: usize = 1000;
+
+/// Default `[simulation] tolerance`: the relative RMS error of the simulated
+/// signals that the automatic steps aim at ([`steps`]). Measured, it keeps
+/// the knee–column benchmark within 1e-6 of an independent reference at
+/// 10, 5, 2 and 1 kHz (`tests/knee_column_reference.rs`).
+pub const DEFAULT_TOLERANCE: f64 = 1e-8;
+
+/// The tolerances accepted.
+pub const TOLERANCE_RANGE: std::ops::RangeInclusive<f64> = 1e-13..=1e-2;
+
+/// Describes the fastest mode for an error message.
+fn fastest_mode_text(fastest_hz: &Option<f64>, sample_rate: f64, substeps: usize) -> String {
+    match fastest_hz {
+        Some(f) => format!(
+            "; the model's fastest mode (linearised at rest) is at {f:.4} Hz, ωh = {:.3} at \
+             {substeps} step(s) per sample of {sample_rate} Hz",
+            2.0 * std::f64::consts::PI * f / (sample_rate * substeps as f64)
+        ),
+        None => String::new(),
+    }
+}
 
 /// Why a simulation failed. During identification such a point is recorded
 /// as failed, never fatal.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimulationError {
     /// The state grew without bound or became NaN.
-    #[error("the response diverged at t = {time:.6} s (state not finite or beyond 1e6)")]
+    #[error(
+        "the response diverged at t = {time:.6} s (state not finite or beyond 1e6){}; \
+         steps that long are unstable for it: leave `substeps` unset so that steps are chosen \
+         from `tolerance`, or raise `substeps`; a mode far above the sample rate may also be \
+         an unintended stiffness (see `rfeid modal`)",
+        fastest_mode_text(fastest_hz, *sample_rate, *substeps)
+    )]
     Diverged {
         /// Sample time at which it was detected, s.
         time: f64,
+        /// The highest natural frequency of the model linearised at rest at
+        /// these parameter values, Hz, if the modal analysis succeeded.
+        fastest_hz: Option<f64>,
+        /// The sample rate, Hz.
+        sample_rate: f64,
+        /// Integrator steps per sample.
+        substeps: usize,
+    },
+    /// No number of steps per sample up to [`MAX_SUBSTEPS`] meets the tolerance.
+    #[error(
+        "{substeps} steps per sample give an estimated relative error of {estimate:.2e}, more \
+         than the tolerance {tolerance:.1e}{}; raise `tolerance`, or check for an unintended \
+         stiffness (see `rfeid modal`)",
+        fastest_mode_text(fastest_hz, *sample_rate, *substeps)
+    )]
+    Inaccurate {
+        /// The most steps tried.
+        substeps: usize,
+        /// Their estimated relative RMS error.
+        estimate: f64,
+        /// The tolerance.
+        tolerance: f64,
+        /// The model's fastest mode at rest, Hz.
+        fastest_hz: Option<f64>,
+        /// The sample rate, Hz.
+        sample_rate: f64,
     },
     /// A parameter value is not a finite number.
     #[error("parameter '{name}' is not finite ({value})")]

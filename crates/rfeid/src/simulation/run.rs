@@ -15,21 +15,23 @@
 //! the knee–column benchmark to 2e-9 (relative RMS); without it, DOP853 needs
 //! three steps per sample for 7e-7 and classical RK4 ten for 3e-7.
 //!
-//! Caveat: the step does not adapt. A model with modes much faster than the
-//! benchmark's (~850 Hz at 10 kHz sampling, ωh ≈ 0.5) needs more `substeps`
-//! (`rfeid modal` shows its modes at rest). The explicit method adds no
-//! numerical damping to speak of at these step sizes, but becomes unstable
-//! when ωh exceeds its stability limit (about 3 for DOP853's damped modes);
-//! that ends in [`SimulationError::Diverged`], never a hang.
+//! The number of steps per sample is chosen from an error estimate for the
+//! model's `tolerance` ([`super::steps`]) unless the model fixes `substeps`;
+//! either way it is the same for every run of one [`Simulator`], so the
+//! response is a smooth function of the parameters. A step count too small
+//! for the model's fastest mode (ωh beyond DOP853's stability limit, about 3
+//! for damped modes) ends in [`SimulationError::Diverged`], which names that
+//! mode, never a hang.
 use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
 use super::madd::{Fused, Madd, Separate};
 use super::stepper::Stepper;
 pub use super::stepper::Workspace;
+use super::steps::{choose_steps, estimate_error, fastest_mode_hz, StepChoice};
 use super::structure::Structure;
 use super::system::System;
 use super::tableau::Tableau;
-use super::{SimulationError, DEFAULT_TABLEAU};
+use super::{SimulationError, MAX_SUBSTEPS};
 use crate::model::{Model, SensorKind};
 
 /// States beyond this magnitude (m, rad, m/s) count as a divergence.
@@ -90,20 +92,50 @@ pub struct Simulator<'m> {
     model: &'m Model,
     structure: Structure,
     integrator: Integrator,
+    steps: StepChoice,
 }
 
 impl<'m> Simulator<'m> {
-    /// A simulator with the model's own `substeps` and the default method.
+    /// A simulator with the model's settings and the default method: the
+    /// model's `substeps` if it fixes them, otherwise steps chosen for its
+    /// `tolerance` at the nominal parameter values ([`Simulator::choose`]).
+    /// If no step count meets the tolerance there (or the nominal point
+    /// cannot be simulated at all), it takes [`MAX_SUBSTEPS`] steps and
+    /// [`Simulator::steps`] has no error estimate; use
+    /// [`Simulator::choose`] to have that as an error instead.
     pub fn new(model: &'m Model) -> Self {
-        let integrator = Integrator {
-            tableau: DEFAULT_TABLEAU,
-            substeps: model.sampling.substeps.max(1),
-            locate_crossings: true,
-        };
-        Self::with_integrator(model, integrator)
+        match model.sampling.substeps {
+            Some(s) => Self::with_integrator(model, super::steps::integrator(s)),
+            None => Self::choose(model, &model.nominal()).unwrap_or_else(|_| {
+                let mut sim = Self::with_integrator(model, super::steps::integrator(MAX_SUBSTEPS));
+                sim.steps.automatic = true;
+                sim
+            }),
+        }
     }
 
-    /// A simulator with explicit integrator settings.
+    /// A simulator with the model's settings, its steps chosen (or, if the
+    /// model fixes `substeps`, their error estimated) at `params`
+    /// ([`super::steps::choose_steps`]).
+    pub fn choose(model: &'m Model, params: &[f64]) -> Result<Self, SimulationError> {
+        let tolerance = model.sampling.tolerance;
+        let steps = match model.sampling.substeps {
+            Some(s) => StepChoice {
+                substeps: s.max(1),
+                automatic: false,
+                tolerance,
+                estimated_error: Some(estimate_error(model, params, s.max(1))?),
+                runs: 2,
+            },
+            None => choose_steps(model, params, tolerance, 1)?,
+        };
+        let mut sim = Self::with_integrator(model, super::steps::integrator(steps.substeps));
+        sim.steps = steps;
+        Ok(sim)
+    }
+
+    /// A simulator with explicit integrator settings (fixed steps, no
+    /// error estimate).
     pub fn with_integrator(model: &'m Model, integrator: Integrator) -> Self {
         let integrator = Integrator {
             substeps: integrator.substeps.max(1),
@@ -113,7 +145,28 @@ impl<'m> Simulator<'m> {
             model,
             structure: Structure::new(model),
             integrator,
+            steps: StepChoice {
+                substeps: integrator.substeps,
+                automatic: false,
+                tolerance: model.sampling.tolerance,
+                estimated_error: None,
+                runs: 0,
+            },
         }
+    }
+
+    /// How the steps per sample were chosen, and their estimated error.
+    pub fn steps(&self) -> StepChoice {
+        self.steps
+    }
+
+    /// Takes `steps.substeps` steps per sample from now on, recording `steps`.
+    pub fn set_steps(&mut self, steps: StepChoice) {
+        self.integrator.substeps = steps.substeps.max(1);
+        self.steps = StepChoice {
+            substeps: self.integrator.substeps,
+            ..steps
+        };
     }
 
     /// The model.
@@ -270,7 +323,12 @@ impl<'m> Simulator<'m> {
             if step % substeps == 0 {
                 let k = step / substeps;
                 if ws.y.iter().any(|v| !(v.abs() < BLOW_UP)) {
-                    return Err(SimulationError::Diverged { time: t });
+                    return Err(SimulationError::Diverged {
+                        time: t,
+                        fastest_hz: fastest_mode_hz(self.model, params),
+                        sample_rate: sampling.sample_rate,
+                        substeps,
+                    });
                 }
                 record(
                     &self.structure,

@@ -109,6 +109,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         threads: 2,
         source: Default::default(),
         verdict: None,
+        simulation: None,
     }
 }
 

@@ -71,6 +71,7 @@ pub struct RawSimulation {
     pub duration: Option<SNum>,
     pub sample_rate: Option<SNum>,
     pub substeps: Option<Spanned<i64>>,
+    pub tolerance: Option<SNum>,
 }
 
 #[derive(Debug, Deserialize)]

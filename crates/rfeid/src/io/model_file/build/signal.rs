@@ -287,8 +287,10 @@ pub(super) fn sampling(ctx: &Ctx, raw: &RawFile) -> Result<Sampling> {
         ));
     }
     let substeps = match &rs.substeps {
-        None => crate::simulation::DEFAULT_SUBSTEPS,
-        Some(s) if (1..=1000).contains(s.get_ref()) => *s.get_ref() as usize,
+        None => None,
+        Some(s) if (1..=crate::simulation::MAX_SUBSTEPS as i64).contains(s.get_ref()) => {
+            Some(*s.get_ref() as usize)
+        }
         Some(s) => {
             return Err(ctx.err(
                 Some(s.span()),
@@ -298,9 +300,25 @@ pub(super) fn sampling(ctx: &Ctx, raw: &RawFile) -> Result<Sampling> {
             ))
         }
     };
+    let tolerance = match &rs.tolerance {
+        None => crate::simulation::DEFAULT_TOLERANCE,
+        Some(t) => {
+            let v = ctx.number(t, Dimension::DIMENSIONLESS, entry, "tolerance")?;
+            if !crate::simulation::TOLERANCE_RANGE.contains(&v) {
+                return Err(ctx.err(
+                    Some(t.span()),
+                    entry,
+                    "tolerance",
+                    crate::simulation::steps::tolerance_range_text(),
+                ));
+            }
+            v
+        }
+    };
     Ok(Sampling {
         duration,
         sample_rate,
         substeps,
+        tolerance,
     })
 }

@@ -1,0 +1,289 @@
+//! The number of integrator steps per sample, chosen from an error estimate.
+//!
+//! The simulator takes a fixed number s of equal steps per sample interval
+//! (see [`super::run`]), so that the computed response is a smooth function
+//! of the parameters. Which s is enough depends on the model's fastest modes
+//! relative to the sample rate, so it is chosen here, by step doubling: the
+//! response with s steps per sample is compared with the one with 2s; for a
+//! method of order p the difference estimates the error of the coarser one
+//! (the finer one's is 2^p times smaller). The error measure is the relative
+//! RMS difference of each sensor's signal, the largest over the sensors,
+//! which is what the benchmark's accuracy figures quote.
+//!
+//! If s steps miss the tolerance, the next s is predicted from the order
+//! (`s (e/tol)^(1/p)`, with a margin) and checked again, so a choice costs
+//! a few simulations: two (at 1 and 2 steps) when one step is enough, as on
+//! the knee–column benchmark at 10 kHz. A run that diverges counts as
+//! missing the tolerance, and the next s is at least four times larger and
+//! large enough that the fastest linearised mode has ωh ≤ 1.
+//!
+//! During an identification the choice is made once and held fixed (the
+//! criterion stays smooth), and checked again at the estimate
+//! ([`crate::identification::identify`]).
+use super::modal::modal_analysis;
+use super::run::{Integrator, Response, Simulator, Workspace};
+use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
+use crate::model::Model;
+use serde::{Deserialize, Serialize};
+
+/// The text of the `tolerance` range check.
+pub fn tolerance_range_text() -> String {
+    let r = super::TOLERANCE_RANGE;
+    format!(
+        "must be a relative error from {:e} to {:e}",
+        r.start(),
+        r.end()
+    )
+}
+
+/// How the steps per sample were chosen, and how accurate they are.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct StepChoice {
+    /// Integrator steps per sample interval.
+    pub substeps: usize,
+    /// Whether they were chosen from the tolerance (false: fixed by the
+    /// model's or the command line's `substeps`).
+    pub automatic: bool,
+    /// The tolerance aimed at (relative RMS error).
+    pub tolerance: f64,
+    /// The estimated relative RMS error of the simulated signals (largest
+    /// over the sensors) where it was last checked; `None` if not estimated.
+    pub estimated_error: Option<f64>,
+    /// Simulations the choice and the estimate took.
+    #[serde(default)]
+    pub runs: usize,
+}
+
+/// The integrator with `substeps` steps per sample and the default method.
+pub fn integrator(substeps: usize) -> Integrator {
+    Integrator {
+        tableau: DEFAULT_TABLEAU,
+        substeps,
+        locate_crossings: true,
+    }
+}
+
+/// Relative RMS difference of `a` from `b`, the largest over the sensors.
+///
+/// Each sensor's RMS difference is divided by its RMS, but by no less than
+/// 1e-3 of the largest RMS among the sensors of the same kind (a sensor that
+/// by symmetry reads almost nothing would otherwise measure rounding noise
+/// against rounding noise).
+pub fn relative_difference(model: &Model, a: &Response, b: &Response) -> f64 {
+    let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt();
+    let scale: Vec<f64> = (0..b.n_sensors).map(|c| rms(b.sensor(c))).collect();
+    let mut worst: f64 = 0.0;
+    for c in 0..b.n_sensors {
+        let kind = model.sensors[c].kind;
+        let floor = (0..b.n_sensors)
+            .filter(|&d| model.sensors[d].kind == kind)
+            .map(|d| scale[d])
+            .fold(0.0, f64::max)
+            * 1e-3;
+        let diff: Vec<f64> = a
+            .sensor(c)
+            .iter()
+            .zip(b.sensor(c))
+            .map(|(x, y)| x - y)
+            .collect();
+        let d = rms(&diff);
+        if d == 0.0 {
+            continue;
+        }
+        let e = d / scale[c].max(floor);
+        // NaN (a non-finite signal) counts as infinitely wrong.
+        worst = if e.is_nan() {
+            f64::INFINITY
+        } else {
+            worst.max(e)
+        };
+    }
+    worst
+}
+
+/// Runs the model at `params` with `substeps` steps per sample.
+fn run(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+    ws: &mut Workspace,
+) -> Result<Response, SimulationError> {
+    let sim = Simulator::with_integrator(model, integrator(substeps));
+    let mut out = sim.response_buffer();
+    sim.run(params, ws, &mut out)?;
+    Ok(out)
+}
+
+/// The estimated relative RMS error of the response at `params` with
+/// `substeps` steps per sample: its difference from the response with twice
+/// as many.
+pub fn estimate_error(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+) -> Result<f64, SimulationError> {
+    let mut ws = Workspace::default();
+    let coarse = run(model, params, substeps, &mut ws)?;
+    let fine = run(model, params, 2 * substeps, &mut ws)?;
+    Ok(relative_difference(model, &coarse, &fine))
+}
+
+/// The fewest steps per sample, from `from` on, whose estimated error at
+/// `params` is within `tolerance` (see the module documentation).
+///
+/// Fails with [`SimulationError::Inaccurate`] if more than
+/// [`MAX_SUBSTEPS`] would be needed, or with the simulation's own error if
+/// the point cannot be simulated at all.
+pub fn choose_steps(
+    model: &Model,
+    params: &[f64],
+    tolerance: f64,
+    from: usize,
+) -> Result<StepChoice, SimulationError> {
+    let order = DEFAULT_TABLEAU.order as f64;
+    let mut ws = Workspace::default();
+    let mut s = from.clamp(1, MAX_SUBSTEPS);
+    // A response already computed, with its step count.
+    let mut known: Option<(usize, Response)> = None;
+    let mut runs = 0;
+    loop {
+        let coarse = match known.take() {
+            Some((k, r)) if k == s => Ok(r),
+            _ => {
+                runs += 1;
+                run(model, params, s, &mut ws)
+            }
+        };
+        let fine = coarse.as_ref().map_err(Clone::clone).and_then(|_| {
+            runs += 1;
+            run(model, params, 2 * s, &mut ws)
+        });
+        let outcome = match (coarse, fine) {
+            (Ok(c), Ok(f)) => {
+                let e = relative_difference(model, &c, &f);
+                if e <= tolerance {
+                    return Ok(StepChoice {
+                        substeps: s,
+                        automatic: true,
+                        tolerance,
+                        estimated_error: Some(e),
+                        runs,
+                    });
+                }
+                known = Some((2 * s, f));
+                Ok(e)
+            }
+            (Err(e), _) | (_, Err(e)) => Err(e),
+        };
+        let next = match &outcome {
+            Ok(e) if e.is_finite() => {
+                let predicted = s as f64 * (e / tolerance).powf(1.0 / order) * 1.1;
+                (predicted.ceil() as usize).max(s + 1)
+            }
+            Ok(_) | Err(SimulationError::Diverged { .. }) => {
+                // Unstable steps: at least ωh ≤ 1 for the fastest mode.
+                let stable = fastest_mode_hz(model, params)
+                    .map(|f| (2.0 * std::f64::consts::PI * f / model.sampling.sample_rate).ceil())
+                    .unwrap_or(0.0);
+                (4 * s).max(stable.min(MAX_SUBSTEPS as f64) as usize)
+            }
+            Err(e) => return Err(e.clone()),
+        };
+        if s == MAX_SUBSTEPS {
+            return Err(match outcome {
+                Ok(estimate) => SimulationError::Inaccurate {
+                    substeps: s,
+                    estimate,
+                    tolerance,
+                    fastest_hz: fastest_mode_hz(model, params),
+                    sample_rate: model.sampling.sample_rate,
+                },
+                Err(e) => e,
+            });
+        }
+        s = next.min(MAX_SUBSTEPS);
+    }
+}
+
+/// The highest natural frequency of the model linearised at rest (or at
+/// equilibrium) at `params`, Hz; `None` if the modal analysis fails.
+pub fn fastest_mode_hz(model: &Model, params: &[f64]) -> Option<f64> {
+    let sim = Simulator::with_integrator(model, integrator(1));
+    modal_analysis(&sim, params)
+        .ok()?
+        .modes
+        .iter()
+        .map(|m| m.frequency_hz)
+        .filter(|f| f.is_finite())
+        .reduce(f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::model_file::parse_model;
+    use std::path::Path;
+
+    /// A single-degree-of-freedom oscillator of natural frequency `f` Hz,
+    /// excited by a sine, sampled at `rate`.
+    fn oscillator(f: f64, rate: f64) -> Model {
+        let k = (2.0 * std::f64::consts::PI * f).powi(2);
+        let text = format!(
+            "[simulation]\nduration = 0.05\nsample_rate = {rate}\n\n\
+             [[body]]\nname = \"b\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\ncom = [0, 0, 0]\n\n\
+             [[element]]\nname = \"s\"\nbody = \"b\"\nto = \"ground\"\nat = [0, 0, 0]\n\
+             ux = {{ k = {k}, c = 1.0 }}\n\n\
+             [[excitation]]\nname = \"p\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
+             signal = {{ type = \"sine\", amplitude = 1.0, frequency = 30.0 }}\n\n\
+             [[sensor]]\nname = \"x\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
+             quantity = \"displacement\"\n"
+        );
+        parse_model(&text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn a_slow_mode_needs_one_step_and_a_fast_one_more() {
+        let slow = oscillator(50.0, 1000.0);
+        let c = choose_steps(&slow, &slow.nominal(), 1e-8, 1).unwrap();
+        assert_eq!(c.substeps, 1, "{c:?}");
+        let fast = oscillator(400.0, 1000.0);
+        let c = choose_steps(&fast, &fast.nominal(), 1e-8, 1).unwrap();
+        assert!(c.substeps > 1, "{c:?}");
+        assert!(c.estimated_error.unwrap() <= 1e-8, "{c:?}");
+    }
+
+    #[test]
+    fn the_chosen_steps_meet_the_tolerance_in_truth() {
+        // The error against a much finer run, not just the estimate.
+        let m = oscillator(400.0, 1000.0);
+        let p = m.nominal();
+        for tol in [1e-5, 1e-8] {
+            let c = choose_steps(&m, &p, tol, 1).unwrap();
+            let mut ws = Workspace::default();
+            let chosen = run(&m, &p, c.substeps, &mut ws).unwrap();
+            let fine = run(&m, &p, 8 * c.substeps, &mut ws).unwrap();
+            let truth = relative_difference(&m, &chosen, &fine);
+            assert!(
+                truth <= tol,
+                "tolerance {tol:e}: error {truth:e} with {c:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn unstable_steps_are_left_behind() {
+        // ωh ≈ 19 at one step per sample: DOP853 diverges there.
+        let m = oscillator(3000.0, 1000.0);
+        let c = choose_steps(&m, &m.nominal(), 1e-8, 1).unwrap();
+        assert!(c.substeps >= 19, "{c:?}");
+    }
+
+    #[test]
+    fn beyond_the_step_limit_is_an_error_naming_the_fastest_mode() {
+        // ωh ≈ 6e4 at one step per sample: even 1000 steps are unstable.
+        let m = oscillator(1e7, 1000.0);
+        let e = choose_steps(&m, &m.nominal(), 1e-8, 1).unwrap_err();
+        assert!(matches!(e, SimulationError::Diverged { .. }), "{e}");
+        assert!(e.to_string().contains("fastest mode"), "{e}");
+    }
+}
