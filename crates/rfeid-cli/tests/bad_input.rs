@@ -63,12 +63,15 @@ fn data_errors_exit_2_without_output() {
         .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
         .collect();
     identify_fails(&missing, &[], "no column for sensor 'knee_az'");
-    let extra: String = good
+    let comma: String = good
         .lines()
-        .enumerate()
-        .map(|(i, l)| format!("{l},{}\n", if i == 0 { "extra" } else { "0" }))
+        .map(|l| l.replace(',', ";").replace('.', ",") + "\n")
         .collect();
-    identify_fails(&extra, &[], "column 'extra' is not a sensor");
+    identify_fails(
+        &comma,
+        &[],
+        "has a decimal comma; rfeid reads numbers with a decimal point",
+    );
     let lines: Vec<&str> = good.lines().collect();
     identify_fails(
         &(lines[..1500].join("\n") + "\n"),
@@ -97,7 +100,7 @@ fn data_errors_exit_2_without_output() {
             }
         })
         .collect();
-    identify_fails(&slow, &[], "the model samples at");
+    identify_fails(&slow, &[], "the data are sampled at 5000 Hz,");
     identify_fails(&good, &["--plan", "0"], "--plan 0");
     // Regression: --from near the end of the record underflowed the sample
     // count (or fitted nothing and exited 0).

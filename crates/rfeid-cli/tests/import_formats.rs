@@ -50,7 +50,7 @@ fn estimates(data: &Path) -> Vec<(String, u64)> {
     ));
     let out = rfeid()
         .arg("identify")
-        .arg(model_file("formats"))
+        .arg(model_file(&data.file_name().unwrap().to_string_lossy()))
         .arg("--data")
         .arg(data)
         .arg("-o")
@@ -109,4 +109,85 @@ fn a_truncated_mat_file_exits_2_without_output() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("cut.mat"), "{stderr}");
     assert!(!result.exists());
+}
+
+/// signals.csv as an acquisition system writes it: semicolons, the columns
+/// shuffled, an extra force channel, float32 time stamps printed in full.
+fn daq_text() -> String {
+    let text = std::fs::read_to_string(fixtures().join("signals.csv")).unwrap();
+    let mut out = String::from("force;acc_x;time;disp_x;vel_x\n");
+    for line in text.lines().skip(1) {
+        let f: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        let force = 100.0 * (2.0 * std::f64::consts::PI * 30.0 * f[0]).sin();
+        let t32 = f[0] as f32 as f64;
+        out += &format!("{force};{};{t32};{};{}\n", f[3], f[1], f[2]);
+    }
+    out
+}
+
+#[test]
+fn a_daq_file_gives_the_estimates_of_the_clean_csv_with_a_note() {
+    let daq = scratch("daq.csv");
+    std::fs::write(&daq, daq_text()).unwrap();
+    assert_eq!(estimates(&daq), estimates(&fixtures().join("signals.csv")));
+    // The ignored column is named on the terminal.
+    let result = scratch("daq-note.json");
+    let out = rfeid()
+        .arg("identify")
+        .arg(model_file("note"))
+        .arg("--data")
+        .arg(&daq)
+        .arg("-o")
+        .arg(&result)
+        .args(["--plan", "4"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.code().is_some_and(|c| c == 0 || c == 3),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!(
+            "note: {}: column 'force' read by no sensor, ignored",
+            daq.display()
+        )),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn lab_file_errors_exit_2_naming_file_and_field_without_output() {
+    let daq = daq_text();
+    let cases = [
+        ("comma.csv", daq.replace('.', ","), "has a decimal comma"),
+        (
+            "halfrate.csv",
+            daq.lines()
+                .enumerate()
+                .filter(|(i, _)| i % 2 == 0 || *i == 0)
+                .map(|(_, l)| format!("{l}\n"))
+                .collect::<String>(),
+            "sampled at 500 Hz",
+        ),
+    ];
+    for (name, text, expect) in cases {
+        let data = scratch(name);
+        std::fs::write(&data, text).unwrap();
+        let result = scratch(&format!("{name}.json"));
+        let out = rfeid()
+            .arg("identify")
+            .arg(model_file(name))
+            .arg("--data")
+            .arg(&data)
+            .arg("-o")
+            .arg(&result)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(&data.display().to_string()), "{stderr}");
+        assert!(stderr.contains(expect), "{name}: {stderr}");
+        assert!(!result.exists(), "{name}");
+    }
 }

@@ -115,7 +115,9 @@ fn the_reference_signals_are_the_closed_form_response() {
 #[test]
 fn every_format_gives_the_same_time_series() {
     let (model, sources) = mapped();
-    let csv = read_measurement(&fixture("signals.csv"), &model, &sources).unwrap();
+    let csv = read_measurement(&fixture("signals.csv"), &model, &sources)
+        .unwrap()
+        .series;
     assert_eq!(csv.names, ["x", "v", "a"]);
     let reference = reference();
     for (c, name) in ["disp_x", "vel_x", "acc_x"].into_iter().enumerate() {
@@ -123,7 +125,8 @@ fn every_format_gives_the_same_time_series() {
     }
     for file in FILES {
         let ts = read_measurement(&fixture(file), &model, &sources)
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+            .unwrap_or_else(|e| panic!("{file}: {e}"))
+            .series;
         assert_eq!(ts.names, csv.names, "{file}");
         for c in 0..3 {
             assert_eq!(bits(&ts.columns[c]), bits(&csv.columns[c]), "{file}: {c}");
@@ -146,8 +149,12 @@ fn the_same_data_in_every_format_gives_the_same_identification() {
     };
     let mut results = Vec::new();
     for file in FILES {
-        let ts = read_measurement(&fixture(file), &model, &sources).unwrap();
-        let measured = match_data(&model, &ts).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let ts = read_measurement(&fixture(file), &model, &sources)
+            .unwrap()
+            .series;
+        let measured = match_data(&model, &ts)
+            .unwrap_or_else(|e| panic!("{file}: {e}"))
+            .response;
         let r = identify(
             OutputError::new(Simulator::new(&model), measured, 0),
             &settings,
@@ -181,18 +188,24 @@ fn by_default_each_sensor_reads_the_signal_named_like_it() {
     let model = model_named(["disp_x", "vel_x", "acc_x"]);
     let sources = default_sources(&model);
     assert_eq!(sources[2], DataSource::Column("acc_x".into()));
-    let csv: TimeSeries = read_measurement(&fixture("signals.csv"), &model, &sources).unwrap();
+    let csv: TimeSeries = read_measurement(&fixture("signals.csv"), &model, &sources)
+        .unwrap()
+        .series;
     // Exactly what read_csv gives, as before sources existed.
     assert_eq!(csv, reference());
     for file in FILES {
-        let ts = read_measurement(&fixture(file), &model, &sources).unwrap();
+        let ts = read_measurement(&fixture(file), &model, &sources)
+            .unwrap()
+            .series;
         assert_eq!(bits(&ts.columns[2]), bits(&csv.columns[2]), "{file}");
     }
     // Record numbers work in universal files only.
     let by_number: Vec<DataSource> = (1..=3)
         .map(|n| DataSource::Record(RecordRef::Index(n)))
         .collect();
-    let ts = read_measurement(&fixture("signals_binary.uff"), &model, &by_number).unwrap();
+    let ts = read_measurement(&fixture("signals_binary.uff"), &model, &by_number)
+        .unwrap()
+        .series;
     assert_eq!(bits(&ts.columns[1]), bits(&csv.columns[1]));
     let e = read_measurement(&fixture("signals.mat"), &model, &by_number).unwrap_err();
     assert!(
@@ -211,7 +224,9 @@ fn mat_time_axes_come_from_t_or_a_sample_rate() {
         DataSource::Variable("vel_x".into()),
         DataSource::Variable("acc_counts".into()),
     ];
-    let ts = read_measurement(&fixture("mixed_classes.mat"), &model, &sources).unwrap();
+    let ts = read_measurement(&fixture("mixed_classes.mat"), &model, &sources)
+        .unwrap()
+        .series;
     assert_eq!(bits(&ts.time), bits(&reference().time));
     // Neither a time vector nor a rate: an error listing the variables.
     let b = patch(&bytes("signals.mat"), b"time", b"tick");
@@ -358,7 +373,9 @@ fn uff_record_errors_name_the_sensor_the_file_and_the_record() {
     // An uneven abscissa agrees with the even ones.
     let uneven = by(RecordRef::Index(4));
     let uneven = vec![uneven[2].clone(), uneven[1].clone(), sources[2].clone()];
-    let ts = read_measurement(&fixture("signals_ascii.uff"), &model, &uneven).unwrap();
+    let ts = read_measurement(&fixture("signals_ascii.uff"), &model, &uneven)
+        .unwrap()
+        .series;
     assert_eq!(
         bits(&ts.columns[0]),
         bits(reference().column("disp_x").unwrap())
@@ -373,23 +390,29 @@ fn uff_record_errors_name_the_sensor_the_file_and_the_record() {
 }
 
 #[test]
-fn csv_columns_must_all_be_read_and_present() {
+fn csv_columns_not_read_are_noted_and_read_ones_must_be_present() {
     let path = fixture("signals.csv");
     let two = model_named(["x", "v", "a"]);
     let mut sources = mapped().1;
-    sources[2] = DataSource::Column("acc_z".into());
-    let e = read_measurement(&path, &two, &sources).unwrap_err();
-    assert!(
-        e.to_string()
-            .contains("column 'acc_x' is not a sensor of the model and no sensor reads it"),
-        "{e}"
+    sources[2] = DataSource::Column("disp_x".into());
+    let read = read_measurement(&path, &two, &sources).unwrap();
+    assert_eq!(
+        read.notes,
+        [format!(
+            "{}: column 'acc_x' read by no sensor, ignored",
+            path.display()
+        )]
     );
+    assert_eq!(read.series.columns[2], read.series.columns[0]);
     sources[2] = DataSource::Column("acc_x".into());
     sources[0] = DataSource::Column("vel_x".into());
-    let e = read_measurement(&path, &two, &sources).unwrap_err();
-    assert!(
-        e.to_string().contains("column 'disp_x' is not a sensor"),
-        "{e}"
+    let read = read_measurement(&path, &two, &sources).unwrap();
+    assert_eq!(
+        read.notes,
+        [format!(
+            "{}: column 'disp_x' read by no sensor, ignored",
+            path.display()
+        )]
     );
     let e = read_measurement(&path, &two, &sources[..2]).unwrap_err();
     assert!(

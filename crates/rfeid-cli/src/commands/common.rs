@@ -1,14 +1,35 @@
-//! What several commands share: loading a model, `--set`.
+//! What several commands share: loading a model and its data, `--set`.
 use crate::diagnostics::{model_error, Failure};
+use crate::ui::Ui;
+use rfeid::io::data_file::read_measurement;
 use rfeid::io::model_file::load_model;
 use rfeid::io::units::parse_quantity;
+use rfeid::measurement::match_data;
 use rfeid::model::Model;
+use rfeid::simulation::Response;
 use rfeid::simulation::SimulationError;
 use std::path::Path;
 
 /// Loads and validates a model file.
 pub fn load(path: &Path) -> Result<Model, Failure> {
     load_model(path).map_err(model_error)
+}
+
+/// Reads the measured data of `model`'s sensors from `path` on the model's
+/// sampling; the reading's notes (columns ignored, a record shifted or cut)
+/// go to the terminal. Every problem is bad input naming the file.
+pub fn load_data(path: &Path, model: &Model, ui: &Ui) -> Result<Response, Failure> {
+    let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
+    let read = read_measurement(path, model, &sources).map_err(Failure::input_msg)?;
+    let matched = match_data(model, &read.series)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    for note in read.notes {
+        ui.note(format!("note: {note}"));
+    }
+    for note in matched.notes {
+        ui.note(format!("note: {}: {note}", path.display()));
+    }
+    Ok(matched.response)
 }
 
 /// Applies `NAME=VALUE` settings to parameter values (SI); a value with a

@@ -1,5 +1,5 @@
 //! `rfeid identify`: the full pipeline on measured data.
-use super::common::{apply_steps, load, simulation_failure, steps_note};
+use super::common::{apply_steps, load, load_data, simulation_failure, steps_note};
 use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
@@ -12,8 +12,7 @@ use rfeid::identification::pipeline::{
 };
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::Reason;
-use rfeid::io::data_file::read_measurement;
-use rfeid::measurement::{constant_sensors, match_data};
+use rfeid::measurement::constant_sensors;
 use rfeid::model::Model;
 use rfeid::simulation::{Response, Simulator};
 
@@ -44,10 +43,7 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
-    let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
-    let data = read_measurement(&args.data, &model, &sources).map_err(Failure::input_msg)?;
-    let measured = match_data(&model, &data)
-        .map_err(|e| Failure::input_msg(format!("{}: {e}", args.data.display())))?;
+    let measured = load_data(&args.data, &model, ui)?;
     if let Some(shard) = shard {
         return super::shard::run(&args, &model, measured, shard, &outputs, ui);
     }

@@ -9,7 +9,7 @@
 //! round-trip exactness), so the result equals the single run's in every
 //! field but the wall times (`timings`, where `plan` is the shards' summed
 //! wall time) and the thread count.
-use super::common::{apply_steps, load};
+use super::common::{apply_steps, load, load_data};
 use super::identify::{
     identify_failure, json_conflict, prepare, result_json, show_result, suspect_status,
 };
@@ -19,8 +19,6 @@ use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::identification::pipeline::{finish, plan, PointOutcome};
-use rfeid::io::data_file::read_measurement;
-use rfeid::measurement::match_data;
 
 /// Runs the command.
 pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
@@ -58,10 +56,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
             first.hash
         )));
     }
-    let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
-    let data = read_measurement(&data_path, &model, &sources).map_err(Failure::input_msg)?;
-    let measured = match_data(&model, &data)
-        .map_err(|e| Failure::input_msg(format!("{}: {e}", data_path.display())))?;
+    let measured = load_data(&data_path, &model, ui)?;
     let search = first
         .search
         .to_args(args.threads, args.timings)

@@ -1,13 +1,11 @@
 //! `rfeid report`, and the reports of `identify --report` and `demo --report`.
-use super::common::load;
+use super::common::{load, load_data};
 use super::demo::{demo_data, demo_model};
 use crate::cli::ReportArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
-use rfeid::io::data_file::read_measurement;
-use rfeid::measurement::match_data;
 use rfeid::model::Model;
 use rfeid::report::{report_files, ReportInput};
 use rfeid::simulation::{Response, Simulator, Workspace};
@@ -48,11 +46,7 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
                 plan.input(f);
             }
             plan.check()?;
-            let sources: Vec<_> = model.sensors.iter().map(|s| s.data.clone()).collect();
-            let ts =
-                read_measurement(&resolve(data), &model, &sources).map_err(Failure::input_msg)?;
-            let measured =
-                match_data(&model, &ts).map_err(|e| Failure::input_msg(format!("{data}: {e}")))?;
+            let measured = load_data(&resolve(data), &model, ui)?;
             let title = format!("{} with {}", model_path, data);
             (model, measured, None, title)
         }

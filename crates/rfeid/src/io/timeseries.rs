@@ -1,5 +1,7 @@
-//! Time series files (SPEC §3): CSV with a header row, a `time` column (s),
-//! then one column per sensor, SI units.
+//! Time series files (SPEC §3): CSV with a header row, a `time` column (s)
+//! and one column per signal, SI units. Files are written with commas and
+//! `time` first; files read may also be separated by semicolons or tabs, as
+//! acquisition systems write them, with the columns in any order.
 use super::atomic::{format_number, write_atomically};
 use std::path::{Path, PathBuf};
 
@@ -45,13 +47,25 @@ pub enum DataError {
         /// What is wrong.
         message: String,
     },
-    /// No `time` column first.
-    #[error("{}: the first column must be 'time' (found '{found}')", path.display())]
+    /// No `time` column.
+    #[error("{}: no column 'time' (columns: {found}); the separator may be ',', ';' or a tab", path.display())]
     NoTime {
         /// The file.
         path: PathBuf,
-        /// The first header.
+        /// The header's columns.
         found: String,
+    },
+    /// A number written with a decimal comma.
+    #[error("{}: line {line}, column '{column}': '{text}' has a decimal comma; rfeid reads numbers with a decimal point: export the file with '.' as the decimal separator", path.display())]
+    DecimalComma {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: u64,
+        /// Column name.
+        column: String,
+        /// The text found.
+        text: String,
     },
     /// A value that is not a finite number.
     #[error("{}: line {line}, column '{column}': '{text}' is not a finite number", path.display())]
@@ -91,16 +105,41 @@ pub enum DataError {
     },
 }
 
-/// Reads a time-series CSV. Every value must be a finite number and time
-/// must increase strictly.
+/// The field separators [`read_csv`] recognises.
+pub const SEPARATORS: [u8; 3] = [b',', b';', b'\t'];
+
+/// The separator of a CSV file, from its header line: the one of `,`, `;`
+/// and tab that occurs most often in it (a comma on a tie, or when none
+/// occurs: a file with one column).
+pub fn detect_separator(header: &str) -> u8 {
+    let mut best = b',';
+    let mut most = header.bytes().filter(|&b| b == b',').count();
+    for sep in [b';', b'\t'] {
+        let n = header.bytes().filter(|&b| b == sep).count();
+        if n > most {
+            best = sep;
+            most = n;
+        }
+    }
+    best
+}
+
+/// Reads a time-series CSV. The separator (`,`, `;` or tab) is detected
+/// from the header line ([`detect_separator`]); the `time` column may be
+/// anywhere, the other columns in any order. Every value must be a finite
+/// number with a decimal point, and time must increase strictly.
 pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
-    let file = std::fs::File::open(path).map_err(|source| DataError::Io {
+    let io_err = |source| DataError::Io {
         path: path.into(),
         source,
-    })?;
+    };
+    let text = std::fs::read(path).map_err(io_err)?;
+    let header = text.split(|&b| b == b'\n').next().unwrap_or_default();
+    let separator = detect_separator(&String::from_utf8_lossy(header));
     let mut rdr = csv::ReaderBuilder::new()
+        .delimiter(separator)
         .trim(csv::Trim::All)
-        .from_reader(std::io::BufReader::new(file));
+        .from_reader(text.as_slice());
     let csv_err = |e: csv::Error| DataError::Csv {
         path: path.into(),
         line: e.position().map(|p| p.line()).unwrap_or(0),
@@ -114,14 +153,18 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
         },
     };
     let headers = rdr.headers().map_err(csv_err)?.clone();
-    let first = headers.get(0).unwrap_or("").to_string();
-    if first != "time" {
+    let Some(time_col) = headers.iter().position(|h| h == "time") else {
         return Err(DataError::NoTime {
             path: path.into(),
-            found: first,
+            found: headers.iter().collect::<Vec<_>>().join(", "),
         });
-    }
-    let names: Vec<String> = headers.iter().skip(1).map(str::to_string).collect();
+    };
+    let names: Vec<String> = headers
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| j != time_col)
+        .map(|(_, h)| h.to_string())
+        .collect();
     for (i, n) in names.iter().enumerate() {
         if n == "time" || names[..i].contains(n) {
             return Err(DataError::DuplicateColumn {
@@ -139,17 +182,27 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
         let rec = rec.map_err(csv_err)?;
         let line = rec.position().map(|p| p.line()).unwrap_or(0);
         for (j, field) in rec.iter().enumerate() {
-            let v: f64 = field
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| DataError::BadValue {
-                    path: path.into(),
-                    line,
-                    column: headers.get(j).unwrap_or("").to_string(),
-                    text: field.to_string(),
-                })?;
-            if j == 0 {
+            let column = || headers.get(j).unwrap_or("").to_string();
+            let v: f64 = match field.parse().ok().filter(|v: &f64| v.is_finite()) {
+                Some(v) => v,
+                None if decimal_comma(field) => {
+                    return Err(DataError::DecimalComma {
+                        path: path.into(),
+                        line,
+                        column: column(),
+                        text: field.to_string(),
+                    })
+                }
+                None => {
+                    return Err(DataError::BadValue {
+                        path: path.into(),
+                        line,
+                        column: column(),
+                        text: field.to_string(),
+                    })
+                }
+            };
+            if j == time_col {
                 if let Some(&last) = ts.time.last() {
                     if v <= last {
                         return Err(DataError::TimeNotIncreasing {
@@ -161,7 +214,7 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
                 }
                 ts.time.push(v);
             } else {
-                ts.columns[j - 1].push(v);
+                ts.columns[j - usize::from(j > time_col)].push(v);
             }
         }
     }
@@ -169,6 +222,16 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
         return Err(DataError::Empty { path: path.into() });
     }
     Ok(ts)
+}
+
+/// Whether `field` is a finite number written with a decimal comma
+/// (`0,0024`, `-1,5e-3`).
+fn decimal_comma(field: &str) -> bool {
+    field.matches(',').count() == 1
+        && field
+            .replace(',', ".")
+            .parse::<f64>()
+            .is_ok_and(f64::is_finite)
 }
 
 /// Writes a time series as CSV text: a `time` column, then one column per

@@ -18,14 +18,6 @@ pub enum MeasurementError {
         /// The columns present.
         columns: String,
     },
-    /// A column that is not a sensor of the model.
-    #[error("column '{column}' is not a sensor of the model (sensors: {sensors})")]
-    ExtraColumn {
-        /// The column.
-        column: String,
-        /// The model's sensors.
-        sensors: String,
-    },
     /// Fewer samples than the model's duration needs.
     #[error(
         "the data has {found} samples, but the model needs {needed} ({duration} s at {rate} Hz)"
@@ -40,51 +32,143 @@ pub enum MeasurementError {
         /// Model sample rate, Hz.
         rate: f64,
     },
-    /// A sample time off the model's grid t_k = k / rate.
-    #[error("sample {index} is at t = {time} s, but the model samples at t = {expected} s ({rate} Hz from t = 0)")]
+    /// A record sampled at another rate than the model.
+    #[error(
+        "the data are sampled at {} Hz, but the model samples at {} Hz: resample the data to \
+         {} Hz (with an anti-aliasing filter when lowering the rate), or set \
+         sample_rate = {} Hz in [simulation]; rfeid does not resample",
+        short(*data_rate), short(*rate), short(*rate), short(*data_rate)
+    )]
+    RateMismatch {
+        /// The data's rate, from its first and last time stamps, Hz.
+        data_rate: f64,
+        /// Model sample rate, Hz.
+        rate: f64,
+    },
+    /// A sample time off the model's grid t_k = start + k / rate.
+    #[error("sample {index} is at t = {time} s, but the model samples at t = {} s ({rate} Hz from the record's start at {start} s, to within {tolerance:.3e} s)", start + expected)]
     TimeMismatch {
         /// 0-based sample index.
         index: usize,
         /// Time in the file.
         time: f64,
-        /// Time the model expects.
+        /// Time the model expects, from the record's start.
         expected: f64,
+        /// The record's first time stamp.
+        start: f64,
+        /// The tolerance at this sample ([`GRID_TOLERANCE`]).
+        tolerance: f64,
         /// Model sample rate, Hz.
         rate: f64,
     },
 }
 
-/// Measured signals in the model's sensor order and sampling; samples past
-/// the model's duration are ignored.
-pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Response, MeasurementError> {
+/// A rate or time for messages: 6 significant digits, so that a rate
+/// computed from float32 time stamps (good to about 10⁻⁷) reads `500`
+/// rather than `500.000014`.
+fn short(x: f64) -> f64 {
+    format!("{x:.5e}").parse().unwrap_or(x)
+}
+
+/// How far a time stamp may lie from the model's grid, as a fraction of the
+/// sample interval: 10⁻³. A record's time stamp t_k is accepted when
+/// |(t_k − t_0) − k·Δt| ≤ 10⁻³·Δt + 2⁻²⁴·(|t_k| + |t_0|); the second term
+/// is the rounding of stamps stored as float32 (half a unit in the last
+/// place of a 24-bit significand), so that float32 time columns of
+/// acquisition systems pass at any record length. A stamp that far off
+/// still names its sample unambiguously (the bound stays far below Δt/2
+/// for records up to 10⁵ samples).
+pub const GRID_TOLERANCE: f64 = 1e-3;
+
+/// Relative rounding of a float32 value: half a unit in the last place.
+const F32_ROUNDING: f64 = 1.0 / 16_777_216.0;
+
+/// Measured signals on the model's sampling, with notes for the user.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Matched {
+    /// The signals in the model's sensor order, `n_samples` long.
+    pub response: Response,
+    /// What the user should know: columns ignored, a record shifted to
+    /// start at t = 0, samples cut past the model's duration.
+    pub notes: Vec<String>,
+}
+
+/// Measured signals in the model's sensor order and sampling (eq. 10, 15).
+///
+/// The record's time stamps must lie on the grid t_0 + k/rate to within
+/// [`GRID_TOLERANCE`]; a record that starts at t_0 ≠ 0 (a triggered record)
+/// is taken as starting at the model's t = 0, and a note says so. A record
+/// sampled at another rate is an error naming both rates (no resampling).
+/// Samples past the model's duration are cut, with a note; columns that are
+/// not sensors are ignored, with a note.
+pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Matched, MeasurementError> {
     let sensors: Vec<&str> = model.sensors.iter().map(|s| s.name.as_str()).collect();
-    if let Some(extra) = data.names.iter().find(|c| !sensors.contains(&c.as_str())) {
-        return Err(MeasurementError::ExtraColumn {
-            column: extra.clone(),
-            sensors: sensors.join(", "),
-        });
+    let mut notes = Vec::new();
+    let extra: Vec<String> = data
+        .names
+        .iter()
+        .filter(|c| !sensors.contains(&c.as_str()))
+        .map(|c| format!("'{c}'"))
+        .collect();
+    if !extra.is_empty() {
+        notes.push(format!(
+            "columns that are not sensors, ignored: {}",
+            extra.join(", ")
+        ));
     }
     let s = model.sampling;
     let n = s.n_samples();
-    if data.time.len() < n {
+    let m = data.time.len();
+    let dt = 1.0 / s.sample_rate;
+    let start = data.time.first().copied().unwrap_or(0.0);
+    if m >= 2 {
+        let step = (data.time[m - 1] - start) / (m - 1) as f64;
+        if !((step - dt).abs() <= GRID_TOLERANCE * dt) {
+            return Err(MeasurementError::RateMismatch {
+                data_rate: 1.0 / step,
+                rate: s.sample_rate,
+            });
+        }
+    }
+    if m < n {
         return Err(MeasurementError::TooShort {
-            found: data.time.len(),
+            found: m,
             needed: n,
             duration: s.duration,
             rate: s.sample_rate,
         });
     }
-    let dt = 1.0 / s.sample_rate;
+    let slack = |t: f64| GRID_TOLERANCE * dt + F32_ROUNDING * (t.abs() + start.abs());
+    let shifted = start.abs() > slack(start);
+    let origin = if shifted { start } else { 0.0 };
     for (k, &t) in data.time.iter().take(n).enumerate() {
         let expected = s.time(k);
-        if (t - expected).abs() > 1e-6 * dt {
+        let tolerance = slack(t);
+        if !((t - origin - expected).abs() <= tolerance) {
             return Err(MeasurementError::TimeMismatch {
                 index: k,
                 time: t,
                 expected,
+                start: origin,
+                tolerance,
                 rate: s.sample_rate,
             });
         }
+    }
+    if shifted {
+        notes.push(format!(
+            "the record starts at t = {start} s; it is taken as starting at the model's t = 0"
+        ));
+    }
+    if m > n {
+        notes.push(format!(
+            "the record has {m} samples ({} s); the model uses the first {n} ({} s at {} Hz), \
+             the other {} are ignored",
+            short(m as f64 * dt),
+            s.duration,
+            s.sample_rate,
+            m - n
+        ));
     }
     let mut out = Response::zeros(sensors.len(), n);
     for (c, name) in sensors.iter().enumerate() {
@@ -96,7 +180,10 @@ pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Response, Measurem
             })?;
         out.values[c * n..(c + 1) * n].copy_from_slice(&col[..n]);
     }
-    Ok(out)
+    Ok(Matched {
+        response: out,
+        notes,
+    })
 }
 
 /// The response as a time series with the sensors' names.

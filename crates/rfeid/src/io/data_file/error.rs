@@ -51,16 +51,6 @@ pub enum DataFileError {
         /// Sensors of the model.
         sensors: usize,
     },
-    /// A CSV column no sensor reads.
-    #[error("{}: column '{column}' is not a sensor of the model and no sensor reads it (sensors: {sensors})", path.display())]
-    ExtraColumn {
-        /// The file.
-        path: PathBuf,
-        /// The column.
-        column: String,
-        /// The model's sensors.
-        sensors: String,
-    },
     /// A sensor whose CSV column is missing.
     #[error("{}: no column {} (columns: {columns})", path.display(), missing(sensor, column))]
     MissingColumn {

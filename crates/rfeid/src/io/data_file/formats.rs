@@ -18,26 +18,40 @@ pub struct Raw {
     pub columns: Vec<Vec<f64>>,
     /// Where each came from, for messages.
     pub origins: Vec<String>,
+    /// What the user should know about the file (columns ignored, say).
+    pub notes: Vec<String>,
 }
 
-/// CSV: the `time` column and the sensors' columns; every other column
-/// must be read by some sensor (as before sources existed).
+/// CSV: the `time` column and the sensors' columns, in any order; columns
+/// no sensor reads (a force channel, say) are listed in a note.
 pub fn csv(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
     let ts = read_csv(path)?;
     let wanted: Vec<&str> = sources.iter().filter_map(DataSource::name).collect();
-    if let Some(extra) = ts.names.iter().find(|c| !wanted.contains(&c.as_str())) {
-        let sensors: Vec<&str> = model.sensors.iter().map(|s| s.name.as_str()).collect();
-        return Err(DataFileError::ExtraColumn {
-            path: path.into(),
-            column: extra.clone(),
-            sensors: sensors.join(", "),
-        });
+    let extra: Vec<&str> = ts
+        .names
+        .iter()
+        .map(String::as_str)
+        .filter(|c| !wanted.contains(c))
+        .collect();
+    let mut notes = Vec::new();
+    if !extra.is_empty() {
+        notes.push(format!(
+            "{}: column{} {} read by no sensor, ignored",
+            path.display(),
+            if extra.len() == 1 { "" } else { "s" },
+            extra
+                .iter()
+                .map(|c| format!("'{c}'"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
     }
     let mut raw = Raw {
         time: ts.time.clone(),
         axis: "column 'time'".into(),
         columns: Vec::new(),
         origins: Vec::new(),
+        notes,
     };
     for (sensor, source) in model.sensors.iter().zip(sources) {
         let name = by_name(path, &sensor.name, source)?;
@@ -109,6 +123,7 @@ pub fn mat(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, Da
         axis,
         columns,
         origins,
+        notes: Vec::new(),
     })
 }
 
@@ -157,6 +172,7 @@ pub fn uff(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, Da
             .iter()
             .map(|r| format!("record {} '{}'", r.number, r.name()))
             .collect(),
+        notes: Vec::new(),
     })
 }
 

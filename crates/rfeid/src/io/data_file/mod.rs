@@ -15,9 +15,10 @@
 //! sensor's record must share. The axis must be finite and strictly
 //! increasing, every signal as long as it and finite.
 //!
-//! A CSV must not hold columns no sensor reads (a misspelt column would
-//! otherwise pass unnoticed); a MAT-file or universal file may hold other
-//! variables or records.
+//! A CSV may hold columns no sensor reads (a force channel, say) in any
+//! order; they are listed in a note, so that a misspelt column does not pass
+//! unnoticed. A MAT-file or universal file may hold other variables or
+//! records.
 mod error;
 mod formats;
 mod source;
@@ -53,6 +54,16 @@ impl DataFormat {
     }
 }
 
+/// Measured signals read from a file, with what the user should know about
+/// the reading.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataRead {
+    /// The signals, named and ordered like the model's sensors.
+    pub series: TimeSeries,
+    /// Notes for the user (columns ignored, say), each naming the file.
+    pub notes: Vec<String>,
+}
+
 /// Reads the measured signals of `model`'s sensors from `path`;
 /// `sources[i]` says where sensor `i`'s signal is (see
 /// [`default_sources`]).
@@ -60,7 +71,7 @@ pub fn read_measurement(
     path: &Path,
     model: &Model,
     sources: &[DataSource],
-) -> Result<TimeSeries, DataFileError> {
+) -> Result<DataRead, DataFileError> {
     if sources.len() != model.sensors.len() {
         return Err(DataFileError::SourceCount {
             path: path.into(),
@@ -92,7 +103,7 @@ pub const MAX_DATA_MAGNITUDE: f64 = 1e100;
 
 /// The shared checks: a finite, strictly increasing time axis, and finite
 /// signals as long as it.
-fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<TimeSeries, DataFileError> {
+fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<DataRead, DataFileError> {
     if raw.time.is_empty() {
         return Err(DataFileError::Empty { path: path.into() });
     }
@@ -141,9 +152,12 @@ fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<TimeSeries, Da
             });
         }
     }
-    Ok(TimeSeries {
-        time: raw.time,
-        names: model.sensors.iter().map(|s| s.name.clone()).collect(),
-        columns: raw.columns,
+    Ok(DataRead {
+        series: TimeSeries {
+            time: raw.time,
+            names: model.sensors.iter().map(|s| s.name.clone()).collect(),
+            columns: raw.columns,
+        },
+        notes: raw.notes,
     })
 }

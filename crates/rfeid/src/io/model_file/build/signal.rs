@@ -226,6 +226,19 @@ pub(super) fn signal(
                     ),
                 ));
             }
+            let sampling = sampling(ctx, raw)?;
+            if let Some(message) = table_gap(&ts.time, &values, sampling) {
+                return Err(ctx.err(
+                    Some(file.span()),
+                    entry,
+                    "signal.file",
+                    format!(
+                        "{}: column '{}': {message}",
+                        path.display(),
+                        column.get_ref()
+                    ),
+                ));
+            }
             vec![Term {
                 amplitude: amplitude(ctx, &rs.amplitude, Some(1.0))?,
                 shape: Shape::Table {
@@ -236,6 +249,38 @@ pub(super) fn signal(
         }
     };
     Ok(Signal { kind, terms })
+}
+
+/// Why a force table does not cover the simulated samples t = 0 … (n−1)/rate,
+/// if it does not: outside its span a table gives 0, so a table that stops
+/// (or starts) inside the simulated time at a nonzero value makes the force
+/// jump to 0 there — a short record or a time column in ms. Both spans are
+/// named. A table whose value at such an end is 0 is taken as meaning "0
+/// from there on", as SPEC §1 says. The ends may miss by the grid tolerance
+/// of measured records ([`GRID_TOLERANCE`](crate::measurement::GRID_TOLERANCE)
+/// of a sample interval, plus float32 rounding).
+fn table_gap(times: &[f64], values: &[f64], sampling: Sampling) -> Option<String> {
+    let (&first, &last) = (times.first()?, times.last()?);
+    let (&v_first, &v_last) = (values.first()?, values.last()?);
+    let dt = 1.0 / sampling.sample_rate;
+    let end = sampling.time(sampling.n_samples().saturating_sub(1));
+    let slack = |t: f64| crate::measurement::GRID_TOLERANCE * dt + t.abs() / 16_777_216.0;
+    let late = first > slack(first) && v_first != 0.0;
+    let early = last < end - slack(end) && v_last != 0.0;
+    if !late && !early {
+        return None;
+    }
+    let (at, value) = if late {
+        ("starts", v_first)
+    } else {
+        ("ends", v_last)
+    };
+    Some(format!(
+        "the table spans t = {first} … {last} s, but the simulation samples t = 0 … {end} s; \
+         it {at} at the value {value}, and a table gives 0 outside its span, so the force \
+         would jump to 0: extend the table over the simulated time (check that its time is \
+         in seconds), or shorten [simulation] duration"
+    ))
 }
 
 pub(super) fn simulation_duration(ctx: &Ctx, raw: &RawFile) -> Result<f64> {
