@@ -50,7 +50,13 @@ fn identify_fails(csv: &str, args: &[&str], expect: &str) {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "stderr: {stderr}");
-    assert!(stderr.contains(expect), "expected '{expect}' in: {stderr}");
+    // The message as one line: the terminal's wrapping undone.
+    let flat = stderr
+        .replace('│', " ")
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(flat.contains(expect), "expected '{expect}' in: {stderr}");
     assert!(!result.exists(), "no partial output file");
 }
 
@@ -70,7 +76,7 @@ fn data_errors_exit_2_without_output() {
     identify_fails(
         &comma,
         &[],
-        "has a decimal comma; rfeid reads numbers with a decimal point",
+        "has a decimal comma; rfeid reads numbers with a decimal point: export the file with '.' as the decimal separator",
     );
     let lines: Vec<&str> = good.lines().collect();
     identify_fails(

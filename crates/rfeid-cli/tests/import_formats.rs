@@ -160,7 +160,11 @@ fn a_daq_file_gives_the_estimates_of_the_clean_csv_with_a_note() {
 fn lab_file_errors_exit_2_naming_file_and_field_without_output() {
     let daq = daq_text();
     let cases = [
-        ("comma.csv", daq.replace('.', ","), "has a decimal comma"),
+        (
+            "comma.csv",
+            daq.replace('.', ","),
+            "line 3, column 'force': '18,73813145857246' has a decimal comma",
+        ),
         (
             "halfrate.csv",
             daq.lines()
@@ -168,7 +172,7 @@ fn lab_file_errors_exit_2_naming_file_and_field_without_output() {
                 .filter(|(i, _)| i % 2 == 0 || *i == 0)
                 .map(|(_, l)| format!("{l}\n"))
                 .collect::<String>(),
-            "sampled at 500 Hz",
+            "the data are sampled at 500 Hz, but the model samples at 1000 Hz",
         ),
     ];
     for (name, text, expect) in cases {
@@ -186,8 +190,14 @@ fn lab_file_errors_exit_2_naming_file_and_field_without_output() {
             .unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
-        assert!(stderr.contains(&data.display().to_string()), "{stderr}");
-        assert!(stderr.contains(expect), "{name}: {stderr}");
+        // The message as one line: the terminal's wrapping undone.
+        let flat = stderr
+            .replace('│', " ")
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(flat.contains(&data.display().to_string()), "{stderr}");
+        assert!(flat.contains(expect), "{name}: {stderr}");
         assert!(!result.exists(), "{name}");
     }
 }
