@@ -60,6 +60,55 @@ impl Shape {
             Shape::Table { times, values } => interpolate(times, values, t),
         }
     }
+
+    /// The value at t as the limit from before t (`before`) or from after
+    /// it: the two differ where the shape jumps (the end of a chirp, the
+    /// ends of a table). A step that ends at such an instant evaluates it
+    /// from before, the next step starts from after. Within a few units in
+    /// the last place of a jump, t counts as being at it.
+    pub fn at_side(&self, t: f64, before: bool) -> f64 {
+        let near = |a: f64, b: f64| (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs());
+        match self {
+            Shape::Chirp { duration, .. } => {
+                let end = *duration;
+                let inside = match before {
+                    true => t > 0.0 && (t <= end || near(t, end)),
+                    false => t >= 0.0 && t < end && !near(t, end),
+                };
+                match inside {
+                    true => self.at(t.min(end)),
+                    false => 0.0,
+                }
+            }
+            Shape::Table { times, values } => {
+                let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
+                    return 0.0;
+                };
+                let inside = match before {
+                    true => t > first && !near(t, first) && (t <= last || near(t, last)),
+                    false => (t >= first || near(t, first)) && t < last && !near(t, last),
+                };
+                match inside {
+                    true => interpolate(times, values, t.clamp(first, last)),
+                    false => 0.0,
+                }
+            }
+            // Continuous: a sine, and a half-sine pulse (zero at both ends).
+            Shape::Sine { .. } | Shape::Impulse { .. } => self.at(t),
+        }
+    }
+
+    /// The instants where the shape has a kink or a jump (or a higher
+    /// derivative jumps): a step across one loses the method's order, so
+    /// steps are split there. Unsorted.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        match self {
+            Shape::Sine { .. } => Vec::new(),
+            Shape::Chirp { duration, .. } => vec![0.0, *duration],
+            Shape::Impulse { t0, width } => vec![*t0, t0 + width],
+            Shape::Table { times, .. } => times.clone(),
+        }
+    }
 }
 
 /// Linear interpolation in a strictly increasing table, 0 outside it.
@@ -106,6 +155,14 @@ impl Signal {
             .map(|term| term.amplitude.eval(p) * term.shape.at(t))
             .sum()
     }
+
+    /// P(t) as the limit from before or after t ([`Shape::at_side`]).
+    pub fn at_side(&self, t: f64, p: &[f64], before: bool) -> f64 {
+        self.terms
+            .iter()
+            .map(|term| term.amplitude.eval(p) * term.shape.at_side(t, before))
+            .sum()
+    }
 }
 
 #[cfg(test)]
@@ -124,6 +181,31 @@ mod tests {
         assert_eq!(s.at(2.0), 0.0);
         assert_eq!(s.at(3.0), -2.0);
         assert_eq!(s.at(3.5), 0.0);
+    }
+
+    #[test]
+    fn jumps_have_a_value_from_each_side() {
+        let c = Shape::Chirp {
+            f0: 10.0,
+            f1: 100.0,
+            duration: 0.5,
+        };
+        assert_eq!(c.at_side(0.5, true), c.at(0.5));
+        assert_ne!(c.at(0.5), 0.0);
+        assert_eq!(c.at_side(0.5, false), 0.0);
+        // An instant off by rounding counts as the jump.
+        let off = 0.5 + f64::EPSILON;
+        assert_eq!(c.at_side(off, true), c.at(0.5));
+        let t = Shape::Table {
+            times: vec![0.1, 0.2],
+            values: vec![3.0, 5.0],
+        };
+        assert_eq!(t.at_side(0.1, true), 0.0);
+        assert_eq!(t.at_side(0.1, false), 3.0);
+        assert_eq!(t.at_side(0.2, true), 5.0);
+        assert_eq!(t.at_side(0.2, false), 0.0);
+        assert_eq!(t.at_side(0.15, true), t.at(0.15));
+        assert_eq!(t.at_side(0.15, false), t.at(0.15));
     }
 
     #[test]

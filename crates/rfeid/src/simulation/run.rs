@@ -93,6 +93,9 @@ pub struct Simulator<'m> {
     structure: Structure,
     integrator: Integrator,
     steps: StepChoice,
+    /// Instants where the excitation has a kink or a jump, sorted, within
+    /// the record: steps are split there.
+    breakpoints: Vec<f64>,
 }
 
 impl<'m> Simulator<'m> {
@@ -141,9 +144,22 @@ impl<'m> Simulator<'m> {
             substeps: integrator.substeps.max(1),
             ..integrator
         };
+        let end = model
+            .sampling
+            .time(model.sampling.n_samples().saturating_sub(1));
+        let mut breakpoints: Vec<f64> = model
+            .excitations
+            .iter()
+            .flat_map(|e| &e.signal.terms)
+            .flat_map(|term| term.shape.breakpoints())
+            .filter(|t| *t > 0.0 && *t < end)
+            .collect();
+        breakpoints.sort_by(f64::total_cmp);
+        breakpoints.dedup();
         Simulator {
             model,
             structure: Structure::new(model),
+            breakpoints,
             integrator,
             steps: StepChoice {
                 substeps: integrator.substeps,
@@ -317,6 +333,8 @@ impl<'m> Simulator<'m> {
         }
 
         let total_steps = n_samples.saturating_sub(1) * substeps;
+        let bps = &self.breakpoints;
+        let mut next_bp = 0;
         for step in 0..=total_steps {
             let t = step as f64 * h;
             st.first_stage(ws, t, with_sens);
@@ -355,7 +373,25 @@ impl<'m> Simulator<'m> {
             if step == total_steps {
                 break;
             }
-            st.step(ws, t, h, with_sens);
+            // Split the step at the excitation's breakpoints inside it (fixed
+            // instants, so the response stays smooth in the parameters).
+            let t_end = (step + 1) as f64 * h;
+            let margin = 1e-9 * h;
+            while next_bp < bps.len() && bps[next_bp] <= t + margin {
+                next_bp += 1;
+            }
+            let mut from = t;
+            while next_bp < bps.len() && bps[next_bp] < t_end - margin {
+                let to = bps[next_bp];
+                st.step(ws, from, to - from, with_sens);
+                st.first_stage(ws, to, with_sens);
+                from = to;
+                next_bp += 1;
+            }
+            match from == t {
+                true => st.step(ws, t, h, with_sens),
+                false => st.step(ws, from, t_end - from, with_sens),
+            }
         }
         Ok(())
     }

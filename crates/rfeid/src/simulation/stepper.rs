@@ -48,6 +48,8 @@ pub struct Workspace {
     power_forces: Vec<f64>,
     forces: Vec<f64>,
     forces_time: f64,
+    /// Whether `forces` are the limits from before `forces_time`.
+    forces_before: bool,
     /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
     phases: Vec<(f64, f64)>,
     phases_time: f64,
@@ -152,7 +154,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         ws.y_stage[..n2].copy_from_slice(&ws.y);
         if let Some(sines) = &self.sines {
             sines.start(t, &mut ws.phases, &mut ws.forces);
-            (ws.forces_time, ws.phases_time) = (t, t);
+            (ws.forces_time, ws.phases_time, ws.forces_before) = (t, t, false);
         }
         self.derivative(ws, 0, t);
         if with_sens {
@@ -200,15 +202,24 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     fn derivative(&self, ws: &mut Workspace, i: usize, t: f64) {
         let n = D::n(self.sys.n);
         let n2 = 2 * n;
-        if t != ws.forces_time {
-            self.sys.forces(t, &mut ws.forces);
-            ws.forces_time = t;
+        let before = self.before(i);
+        if t != ws.forces_time || before != ws.forces_before {
+            self.sys.forces_side(t, before, &mut ws.forces);
+            (ws.forces_time, ws.forces_before) = (t, before);
         }
         let ys = &ws.y_stage[i * n2..(i + 1) * n2];
         let ki = &mut ws.k[i * n2..(i + 1) * n2];
         ki[..n].copy_from_slice(&ys[n..]);
         self.sys
             .accel_with::<M, D>(&ws.forces, ys, &mut ws.power_forces, &mut ki[n..]);
+    }
+
+    /// Whether stage i evaluates the excitation as the limit from before its
+    /// instant: the stage at the step's end (c = 1) does, so that a step
+    /// ending at a jump of the excitation sees the value before it.
+    #[inline(always)]
+    fn before(&self, i: usize) -> bool {
+        i > 0 && self.tab.c[i] == 1.0
     }
 
     /// Stage i's sensitivity derivative from `sy_stage` and stage state i.
@@ -222,8 +233,15 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let ksi = &mut ws.ks[i * n2 * w..(i + 1) * n2 * w];
         let (dq, dv) = ksi.split_at_mut(n * w);
         dq.copy_from_slice(&ws.sy_stage[n * w..]);
-        self.tangent
-            .apply::<M, D>(self.sys, t, ys, acc, &ws.sy_stage, dv, &mut ws.scratch);
+        self.tangent.apply::<M, D>(
+            self.sys,
+            (t, self.before(i)),
+            ys,
+            acc,
+            &ws.sy_stage,
+            dv,
+            &mut ws.scratch,
+        );
     }
 
     /// Stages 1.. of the state and `y_new = y + h Σ b_i k_i`.
@@ -240,7 +258,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             match &self.sines {
                 Some(sines) if h == sines.h && ws.phases_time == t => {
                     sines.stage(i, &ws.phases, &mut ws.forces);
-                    ws.forces_time = ti;
+                    (ws.forces_time, ws.forces_before) = (ti, self.before(i));
                 }
                 _ => {}
             }

@@ -223,6 +223,15 @@ impl<'a> System<'a> {
         }
     }
 
+    /// The excitation forces as limits from before or after t
+    /// ([`crate::model::Shape::at_side`]), into `forces`.
+    #[inline(always)]
+    pub fn forces_side(&self, t: f64, before: bool, forces: &mut [f64]) {
+        for (f, s) in forces.iter_mut().zip(self.signals()) {
+            *f = s.at_side(t, &self.params, before);
+        }
+    }
+
     /// Scratch length that [`System::accel`] needs: the power-law slots.
     pub fn scratch_len(&self) -> usize {
         self.power_am.len()

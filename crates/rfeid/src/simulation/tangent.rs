@@ -118,7 +118,7 @@ impl Tangent {
     pub fn apply<M: Madd, D: Dim>(
         &self,
         sys: &System<'_>,
-        t: f64,
+        (t, before): (f64, bool),
         y: &[f64],
         acc: &[f64],
         sy: &[f64],
@@ -189,7 +189,9 @@ impl Tangent {
                     dacc[cell(k)] -= acc[k] * sys.minv[k];
                 }
                 Usage::Amplitude(e, j) => {
-                    let s = sys.model.excitations[e].signal.terms[j].shape.at(t);
+                    let s = sys.model.excitations[e].signal.terms[j]
+                        .shape
+                        .at_side(t, before);
                     if s != 0.0 {
                         for (k, l) in sys.minv_loads[e].iter().enumerate() {
                             dacc[cell(k)] += s * l;
