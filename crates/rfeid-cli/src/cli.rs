@@ -153,6 +153,9 @@ pub struct SearchArgs {
     /// Integrator accuracy.
     #[command(flatten)]
     pub steps: StepArgs,
+    /// Each local search first fits this fraction of the record, then the whole record from there (0 ≤ FRACTION < 1; 0: off). Default 0.15 for `identify`, off for `demo`.
+    #[arg(long, value_name = "FRACTION")]
+    pub window: Option<f64>,
 }
 
 /// `--method`.

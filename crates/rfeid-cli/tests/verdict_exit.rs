@@ -92,3 +92,19 @@ fn the_noisy_demo_is_trustworthy() {
     assert_eq!(v["trustworthy"], true);
     assert_eq!(v["sensors"].as_array().unwrap().len(), 3);
 }
+
+/// `--window` outside [0, 1) is bad input, before any output is written.
+#[test]
+fn a_window_outside_the_unit_interval_is_bad_input() {
+    for w in ["1", "-0.1", "1.5"] {
+        let result = scratch(&format!("window{w}.json"));
+        let out = rfeid()
+            .args(["demo", "-q", &format!("--window={w}"), "-o"])
+            .arg(&result)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "--window {w}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--window"));
+        assert!(!result.exists());
+    }
+}

@@ -194,6 +194,12 @@ pub fn start_threads(threads: Option<usize>) -> Result<(), Failure> {
         })
 }
 
+/// `--window` of `identify` when not given: each local search first fits
+/// the first 15 % of the record. Measured on wide boxes (README, "The
+/// verdict"): the 3-body lathe found the truth in 11 of 12 cases with it, 6
+/// of 12 without; the knee–column in 12 of 12 either way, 0.4 s slower.
+pub const DEFAULT_WINDOW: f64 = 0.15;
+
 /// Checks the search settings and runs the pipeline.
 pub fn run_search(
     model: &Model,
@@ -267,6 +273,12 @@ pub fn prepare<'m>(
             names.join(", ")
         ));
     }
+    let window = a.window.unwrap_or(DEFAULT_WINDOW);
+    if !(0.0..1.0).contains(&window) {
+        return Err(Failure::input_msg(format!(
+            "--window {window}: must lie in [0, 1) (0: off)"
+        )));
+    }
     let settings = Settings {
         plan_points: a.plan,
         starts: a.starts,
@@ -278,6 +290,7 @@ pub fn prepare<'m>(
             WeightsArg::Equal => Weighting::Equal,
             WeightsArg::Estimated => Weighting::EstimatedNoise,
         },
+        window: Some(window).filter(|w| *w > 0.0),
         ..Settings::default()
     };
     let sim = Simulator::choose(model, &model.nominal()).map_err(|e| {

@@ -51,6 +51,9 @@ pub struct SearchSpec {
     /// `--substeps`.
     #[serde(default)]
     pub substeps: Option<usize>,
+    /// `--window`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<f64>,
 }
 
 impl SearchSpec {
@@ -67,6 +70,7 @@ impl SearchSpec {
             from: a.from,
             tolerance: a.steps.tolerance,
             substeps: a.steps.substeps,
+            window: a.window,
         }
     }
 
@@ -84,6 +88,7 @@ impl SearchSpec {
                 tolerance: self.tolerance,
                 substeps: self.substeps,
             },
+            window: self.window,
         })
     }
 }

@@ -56,6 +56,11 @@ pub struct Settings {
     pub uncertainty: UncertaintySettings,
     /// Thresholds of the verdict.
     pub verdict: VerdictSettings,
+    /// If set, each start first fits this fraction (0, 1) of the record
+    /// (from its first used sample), then the whole record from there: the
+    /// short record's criterion is less rugged, so a start far from the
+    /// truth is less likely to end in a side minimum.
+    pub window: Option<f64>,
 }
 
 /// What a caller may watch (progress bars, logs). Every method has a no-op default.
@@ -159,6 +164,57 @@ struct Search {
 
 fn solve_err<E: std::fmt::Display>(e: SolveError<E>) -> IdentifyError {
     IdentifyError::Solve(e.to_string())
+}
+
+/// A local search from a plan point: on the short window first if
+/// `settings.window` says so (see [`Settings::window`]), then on the whole
+/// record. The counts include both searches; the history is the last one's.
+fn start_search(
+    problem: &OutputError<'_>,
+    settings: &Settings,
+    u0: &[f64],
+    progress: &dyn Progress,
+) -> Result<Search, IdentifyError> {
+    let Some(fraction) = settings.window.filter(|f| *f > 0.0 && *f < 1.0) else {
+        return local_search(problem, settings, u0, progress);
+    };
+    let model = problem.simulator().model();
+    let first = problem.first_sample();
+    let n = problem.measured().n_samples;
+    let r = problem.n_params();
+    let used = ((fraction * (n - first) as f64).ceil() as usize).max(r + 2);
+    if first + used >= n {
+        return local_search(problem, settings, u0, progress);
+    }
+    let n_w = first + used;
+    let mut short = model.clone();
+    short.sampling.duration = n_w as f64 / short.sampling.sample_rate;
+    if short.sampling.n_samples() != n_w {
+        return local_search(problem, settings, u0, progress);
+    }
+    let y = problem.measured();
+    let mut values = Vec::with_capacity(y.n_sensors * n_w);
+    for c in 0..y.n_sensors {
+        values.extend_from_slice(&y.sensor(c)[..n_w]);
+    }
+    let truncated = crate::simulation::Response {
+        n_samples: n_w,
+        n_sensors: y.n_sensors,
+        values,
+    };
+    let mut window = OutputError::new(crate::simulation::Simulator::new(&short), truncated, first);
+    window.set_weights(&problem.weights());
+    let (u1, pre) = match local_search(&window, settings, u0, progress) {
+        Ok(s) => (s.u.clone(), Some(s)),
+        Err(_) => (u0.to_vec(), None),
+    };
+    let mut s = local_search(problem, settings, &u1, progress)?;
+    if let Some(pre) = pre {
+        s.residual_evals += pre.residual_evals;
+        s.jacobian_evals += pre.jacobian_evals;
+        s.failed += pre.failed;
+    }
+    Ok(s)
 }
 
 fn local_search(
@@ -333,7 +389,7 @@ pub fn finish(
     let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, n_failed);
     let (searches, start_failures) = run_starts(&starts, |k, idx, cost| {
         progress.search_started(k, starts.len(), cost);
-        local_search(&problem, settings, plan.point(idx), progress)
+        start_search(&problem, settings, plan.point(idx), progress)
     })?;
     // A failed start cost one simulation with sensitivities, which failed.
     sims_sens += start_failures.len();
