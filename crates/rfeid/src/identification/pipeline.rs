@@ -202,7 +202,11 @@ fn start_search(
         n_sensors: y.n_sensors,
         values,
     };
-    let mut window = OutputError::new(crate::simulation::Simulator::new(&short), truncated, first);
+    // The whole record's integrator and steps per sample, held as they are.
+    let mut sim =
+        crate::simulation::Simulator::with_integrator(&short, problem.simulator().integrator());
+    sim.set_steps(problem.simulator().steps());
+    let mut window = OutputError::new(sim, truncated, first);
     window.set_weights(&problem.weights());
     let (u1, pre) = match local_search(&window, settings, u0, progress) {
         Ok(s) => (s.u.clone(), Some(s)),
