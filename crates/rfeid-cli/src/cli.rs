@@ -196,9 +196,24 @@ pub struct IdentifyArgs {
     /// Evaluate only shard K of N of the plan (points whose index mod N is K, K = 0 … N−1) and write them to `-o` as a shard file for `rfeid merge`; `auto` takes K and N from SLURM_ARRAY_TASK_ID (minus SLURM_ARRAY_TASK_MIN) and SLURM_ARRAY_TASK_COUNT. A shard file already at `-o` from the same run is resumed.
     #[arg(long, value_name = "K/N|auto")]
     pub shard: Option<String>,
+    /// Fix a parameter for this run, e.g. `--set m=1.5` or `--set P0="20 daN"` (repeatable): it takes the value and is not identified, even if the model file gives it a box. RESULT.json records the settings, and `rfeid report` applies them again.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Where the local search starts: `plan`, the best `--starts` points of the LP_τ plan; or `values`, once from the identified parameters' `value`s in the model file, without the plan (only one point is evaluated, to check the problem): the minimum nearest the values.
+    #[arg(long, value_enum, default_value_t = StartArg::Plan)]
+    pub start: StartArg,
     /// Search settings.
     #[command(flatten)]
     pub search: SearchArgs,
+}
+
+/// `--start`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum StartArg {
+    /// From the best points of the LP_τ plan.
+    Plan,
+    /// From the parameters' values in the model file.
+    Values,
 }
 
 /// `rfeid merge`.

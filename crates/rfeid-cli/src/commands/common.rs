@@ -36,46 +36,62 @@ pub fn load_data(path: &Path, model: &Model, ui: &Ui) -> Result<Response, Failur
 /// unit must have the parameter's dimension.
 pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<(), Failure> {
     for s in sets {
-        let (name, value) = s
-            .split_once('=')
-            .ok_or_else(|| Failure::input_msg(format!("--set '{s}': expected NAME=VALUE")))?;
-        let name = name.trim();
-        let i = model.parameter_index(name).ok_or_else(|| {
-            let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
-            Failure::input_msg(format!(
-                "--set: unknown parameter '{name}' (parameters: {})",
-                known.join(", ")
-            ))
-        })?;
-        let q =
-            parse_quantity(value).map_err(|e| Failure::input_msg(format!("--set {name}: {e}")))?;
+        let (i, value) = parse_set(model, s)?;
         let p = &model.parameters[i];
-        let bare = value.trim().parse::<f64>().is_ok();
-        if !bare && q.dim != p.dimension {
-            return Err(Failure::input_msg(format!(
-                "--set {name}: '{value}' has the dimension {}, but {name} is {}",
-                q.dim, p.dimension
-            )));
-        }
-        if !q.value.is_finite() {
-            return Err(Failure::input_msg(format!(
-                "--set {name}: not a finite number"
-            )));
-        }
         if let Some((lo, hi)) = p.bounds {
-            if q.value < lo || q.value > hi {
-                tracing::warn!(
-                    "--set {name}: {} lies outside its box [{lo:e}, {hi:e}]",
-                    q.value
-                );
+            if value < lo || value > hi {
+                let name = &p.name;
+                tracing::warn!("--set {name}: {value} lies outside its box [{lo:e}, {hi:e}]");
                 eprintln!(
                     "warning: --set {name}: the value lies outside its box [{lo:e}, {hi:e}] (SI)"
                 );
             }
         }
-        params[i] = q.value;
+        params[i] = value;
     }
     Ok(())
+}
+
+/// Fixes parameters for one run (`identify --set NAME=VALUE`): each takes
+/// its value and loses its box, so it is not identified.
+pub fn fix_parameters(model: &mut Model, sets: &[String]) -> Result<(), Failure> {
+    for s in sets {
+        let (i, value) = parse_set(model, s)?;
+        let p = &mut model.parameters[i];
+        p.value = value;
+        p.bounds = None;
+    }
+    Ok(())
+}
+
+/// One `NAME=VALUE`: the parameter's index and the value in SI.
+fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), Failure> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| Failure::input_msg(format!("--set '{s}': expected NAME=VALUE")))?;
+    let name = name.trim();
+    let i = model.parameter_index(name).ok_or_else(|| {
+        let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
+        Failure::input_msg(format!(
+            "--set: unknown parameter '{name}' (parameters: {})",
+            known.join(", ")
+        ))
+    })?;
+    let q = parse_quantity(value).map_err(|e| Failure::input_msg(format!("--set {name}: {e}")))?;
+    let p = &model.parameters[i];
+    let bare = value.trim().parse::<f64>().is_ok();
+    if !bare && q.dim != p.dimension {
+        return Err(Failure::input_msg(format!(
+            "--set {name}: '{value}' has the dimension {}, but {name} is {}",
+            q.dim, p.dimension
+        )));
+    }
+    if !q.value.is_finite() {
+        return Err(Failure::input_msg(format!(
+            "--set {name}: not a finite number"
+        )));
+    }
+    Ok((i, q.value))
 }
 
 /// A failed simulation at user-chosen values: parameter values the model

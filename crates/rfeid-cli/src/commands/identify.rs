@@ -1,6 +1,6 @@
 //! `rfeid identify`: the full pipeline on measured data.
-use super::common::{apply_steps, load, load_data, simulation_failure, steps_note};
-use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, WeightsArg};
+use super::common::{apply_steps, fix_parameters, load, load_data, simulation_failure, steps_note};
+use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
 use crate::outputs::{Checked, Plan};
@@ -8,7 +8,7 @@ use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{
-    identify, IdentifyError, Method, Progress, Settings, Weighting,
+    identify, IdentifyError, Method, Progress, Settings, Start, Weighting,
 };
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::Reason;
@@ -29,7 +29,19 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
             "--report with --shard: a shard has no result to report; give --report to `rfeid merge`",
         ));
     }
+    if shard.is_some() && (!args.set.is_empty() || args.start == StartArg::Values) {
+        return Err(Failure::input_msg(
+            "--set or --start values with --shard: shards share one run's model file; write the values into a copy of the model file instead",
+        ));
+    }
+    if args.start == StartArg::Values && args.search.starts != 1 {
+        return Err(Failure::input_msg(format!(
+            "--starts {} with --start values: the search starts once, from the values",
+            args.search.starts
+        )));
+    }
     let mut model = load(&args.model)?;
+    fix_parameters(&mut model, &args.set)?;
     apply_steps(&mut model, &args.search.steps)?;
     let mut plan = Plan::new();
     plan.input(&args.model)
@@ -47,7 +59,12 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(shard) = shard {
         return super::shard::run(&args, &model, measured, shard, &outputs, ui);
     }
-    let mut result = run_search(&model, measured.clone(), &args.search, ui)?;
+    let start = match args.start {
+        StartArg::Plan => Start::Plan,
+        StartArg::Values => Start::Values,
+    };
+    let mut result = run_search_from(&model, measured.clone(), &args.search, start, ui)?;
+    result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(args.data.display().to_string());
     let mut batch = outputs.batch();
@@ -207,7 +224,19 @@ pub fn run_search(
     a: &SearchArgs,
     ui: &Ui,
 ) -> Result<IdentificationResult, Failure> {
-    let (problem, settings, progress) = prepare(model, measured, a, ui)?;
+    run_search_from(model, measured, a, Start::Plan, ui)
+}
+
+/// [`run_search`] with the local search starting at `start`.
+pub fn run_search_from(
+    model: &Model,
+    measured: Response,
+    a: &SearchArgs,
+    start: Start,
+    ui: &Ui,
+) -> Result<IdentificationResult, Failure> {
+    let (problem, mut settings, progress) = prepare(model, measured, a, ui)?;
+    settings.start = start;
     let result = identify(problem, &settings, &progress).map_err(identify_failure)?;
     progress.bar.finish_and_clear();
     Ok(result)

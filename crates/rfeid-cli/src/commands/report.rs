@@ -1,5 +1,5 @@
 //! `rfeid report`, and the reports of `identify --report` and `demo --report`.
-use super::common::{load, load_data};
+use super::common::{fix_parameters, load, load_data};
 use super::demo::{demo_data, demo_model};
 use crate::cli::ReportArgs;
 use crate::diagnostics::Failure;
@@ -40,7 +40,8 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
                 .model
                 .as_deref()
                 .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
-            let model = load(&resolve(model_path))?;
+            let mut model = load(&resolve(model_path))?;
+            fix_parameters(&mut model, &result.source.set)?;
             plan.input(&resolve(model_path)).input(&resolve(data));
             for f in &model.files {
                 plan.input(f);

@@ -37,6 +37,19 @@ pub enum Weighting {
     EstimatedNoise,
 }
 
+/// Where the local search starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Start {
+    /// From the best [`Settings::starts`] points of the LP_τ plan (eq. 18–19).
+    #[default]
+    Plan,
+    /// Once, from the identified parameters' `value`s in the model file
+    /// (which lie in their boxes). [`identify`] then evaluates a plan of one
+    /// point only, for the checks of the problem; the global search is
+    /// skipped, so the estimate is the minimum nearest the values.
+    Values,
+}
+
 /// Settings of an identification.
 #[derive(Debug, Clone, Default)]
 pub struct Settings {
@@ -61,6 +74,8 @@ pub struct Settings {
     /// short record's criterion is less rugged, so a start far from the
     /// truth is less likely to end in a side minimum.
     pub window: Option<f64>,
+    /// Where the local search starts.
+    pub start: Start,
 }
 
 /// What a caller may watch (progress bars, logs). Every method has a no-op default.
@@ -301,7 +316,18 @@ pub fn identify(
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_start = Instant::now();
-    let plan = plan(&problem, settings)?;
+    let one_point = Settings {
+        plan_points: 1,
+        starts: 1,
+        ..settings.clone()
+    };
+    let plan = plan(
+        &problem,
+        match settings.start {
+            Start::Plan => settings,
+            Start::Values => &one_point,
+        },
+    )?;
     progress.plan_started(plan.len());
     let all: Vec<usize> = (0..plan.len()).collect();
     let outcomes = evaluate_points(&problem, &plan, &all, progress)?;
@@ -391,10 +417,27 @@ pub fn finish(
         .collect();
     let mut ends = Vec::with_capacity(starts.len());
     let (mut sims, mut sims_sens, mut failed) = (plan.len(), 0, n_failed);
-    let (searches, start_failures) = run_starts(&starts, |k, idx, cost| {
-        progress.search_started(k, starts.len(), cost);
-        start_search(&problem, settings, plan.point(idx), progress)
-    })?;
+    let (searches, start_failures) = match settings.start {
+        Start::Plan => run_starts(&starts, |k, idx, cost| {
+            progress.search_started(k, starts.len(), cost);
+            start_search(&problem, settings, plan.point(idx), progress)
+        })?,
+        Start::Values => {
+            let values: Vec<f64> = problem
+                .wrt()
+                .iter()
+                .map(|&i| model.parameters[i].value)
+                .collect();
+            let u0: Vec<f64> = problem
+                .to_normalised(&values)
+                .into_iter()
+                .map(|u| u.clamp(0.0, 1.0))
+                .collect();
+            let search = start_search(&problem, settings, &u0, progress)
+                .map_err(|e| IdentifyError::Solve(format!("from the parameters' values: {e}")))?;
+            (vec![search], Vec::new())
+        }
+    };
     // A failed start cost one simulation with sensitivities, which failed.
     sims_sens += start_failures.len();
     failed += start_failures.len();

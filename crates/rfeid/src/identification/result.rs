@@ -90,6 +90,10 @@ pub struct Source {
     pub demo_noise: Option<f64>,
     /// For `rfeid demo`: the noise seed.
     pub demo_seed: Option<u64>,
+    /// Parameters fixed for the run, `NAME=VALUE` as given
+    /// (`identify --set`); a report applies them again.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub set: Vec<String>,
 }
 
 /// Everything an identification found.
