@@ -359,8 +359,13 @@ fn a_force_table_must_cover_the_simulated_time() {
     table_model("0;1\n0.005;0\n").unwrap();
     // Starting late at 0 likewise.
     table_model("0.002;0\n0.009;2\n").unwrap();
-    // float32 stamps of the end pass.
-    table_model(&format!("0;1\n{};2\n", float32(0.009))).unwrap();
+    // float32 stamps of the ends pass, and the table reaches the last
+    // sample (0.009 as float32 is 0.008999999612569809, just before it).
+    assert!(float32(0.009).parse::<f64>().unwrap() < 0.009);
+    let m = table_model(&format!("{};1\n{};2\n", float32(1e-7), float32(0.009))).unwrap();
+    let force = |t: f64| m.excitations[0].signal.at(t, &[]);
+    assert_eq!(force(0.009), 2.0);
+    assert_eq!(force(0.0), 1.0);
     // A short record ending at a nonzero value: the force would jump to 0.
     let e = table_model("0;1\n0.005;2\n").unwrap_err();
     assert!(e.contains("field 'signal.file'"), "{e}");

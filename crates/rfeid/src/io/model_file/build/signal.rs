@@ -239,12 +239,11 @@ pub(super) fn signal(
                     ),
                 ));
             }
+            let mut times = ts.time;
+            snap_ends(&mut times, sampling);
             vec![Term {
                 amplitude: amplitude(ctx, &rs.amplitude, Some(1.0))?,
-                shape: Shape::Table {
-                    times: ts.time,
-                    values,
-                },
+                shape: Shape::Table { times, values },
             }]
         }
     };
@@ -281,6 +280,26 @@ fn table_gap(times: &[f64], values: &[f64], sampling: Sampling) -> Option<String
          would jump to 0: extend the table over the simulated time (check that its time is \
          in seconds), or shorten [simulation] duration"
     ))
+}
+
+/// Moves a table's first instant to t = 0 and its last to the last
+/// simulated sample when they miss them by no more than [`table_gap`]
+/// accepts (float32 stamps: 0.048999998 for 0.049): otherwise the table,
+/// 0 outside its span, would give 0 at that sample. The change is below
+/// 10⁻³ of a sample interval plus float32 rounding.
+fn snap_ends(times: &mut [f64], sampling: Sampling) {
+    let dt = 1.0 / sampling.sample_rate;
+    let end = sampling.time(sampling.n_samples().saturating_sub(1));
+    let slack = |t: f64| crate::measurement::GRID_TOLERANCE * dt + t.abs() / 16_777_216.0;
+    let n = times.len();
+    if n >= 2 {
+        if times[0] > 0.0 && times[0] <= slack(times[0]) && times[1] > 0.0 {
+            times[0] = 0.0;
+        }
+        if times[n - 1] < end && times[n - 1] >= end - slack(end) && times[n - 2] < end {
+            times[n - 1] = end;
+        }
+    }
 }
 
 pub(super) fn simulation_duration(ctx: &Ctx, raw: &RawFile) -> Result<f64> {
