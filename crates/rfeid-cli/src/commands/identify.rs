@@ -427,6 +427,13 @@ pub fn format_result(
         r.simulations_with_sensitivities,
         r.failed_simulations
     );
+    if let Some(steps) = &r.simulation {
+        let _ = writeln!(
+            out,
+            "{} (at the estimate)",
+            super::common::steps_note(steps)
+        );
+    }
     for f in &r.failed_starts {
         let _ = writeln!(
             out,

@@ -80,6 +80,9 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         args.output.display()
     ));
     ui.note(steps_note(&steps));
+    for w in rfeid::simulation::aliasing::above_nyquist(&model, &params) {
+        ui.note(format!("warning: {w}"));
+    }
     for (c, s) in model.sensors.iter().enumerate() {
         ui.note(format!(
             "  {:<16} RMS {:.4e} {}",

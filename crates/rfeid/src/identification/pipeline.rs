@@ -545,6 +545,11 @@ pub fn finish(
         failed += s.failed;
         best = s;
     }
+    {
+        let mut x = Vec::new();
+        problem.all_params(&best.u, &mut x);
+        step_warnings.extend(crate::simulation::aliasing::above_nyquist(model, &x));
+    }
     let t_local = t_local.elapsed().as_secs_f64();
 
     // 3. Cramér–Rao bounds (eq. 26–29) from the exact Jacobian at the estimate.

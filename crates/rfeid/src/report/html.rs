@@ -231,6 +231,24 @@ fn summary(out: &mut String, input: &ReportInput) {
             ),
         ),
         (
+            "integrator",
+            match &r.simulation {
+                Some(s) => format!(
+                    "{} step(s) per sample ({}); estimated relative error at the estimate {}",
+                    s.substeps,
+                    if s.automatic {
+                        format!("chosen for a tolerance of {:.0e}", s.tolerance)
+                    } else {
+                        "fixed".into()
+                    },
+                    s.estimated_error
+                        .map(|e| format!("{e:.1e}"))
+                        .unwrap_or_else(|| "not estimated".into())
+                ),
+                None => "not recorded".into(),
+            },
+        ),
+        (
             "LP_τ plan",
             format!(
                 "{} points, {} failed, {} start(s)",

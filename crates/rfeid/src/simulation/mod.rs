@@ -1,5 +1,6 @@
 //! Simulation of the equations of motion (eq. 1) with forward sensitivities,
 //! static equilibrium and modal analysis.
+pub mod aliasing;
 mod dim;
 pub mod equilibrium;
 mod madd;
