@@ -145,3 +145,13 @@ pub fn steps_note(steps: &rfeid::simulation::StepChoice) -> String {
             .unwrap_or_else(|| "not estimated".into())
     )
 }
+
+/// Notes where a run's report was written, if it wrote one.
+pub fn report_note(dir: Option<&Path>, ui: &Ui) {
+    if let Some(dir) = dir {
+        ui.note(format!(
+            "report written to {}",
+            dir.join("report.html").display()
+        ));
+    }
+}

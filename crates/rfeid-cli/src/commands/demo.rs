@@ -1,5 +1,5 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use super::common::apply_steps;
+use super::common::{apply_steps, report_note};
 use super::identify::{
     check_limits, json_conflict, result_json, run_search, show_result, suspect_status,
 };
@@ -92,12 +92,7 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         batch.file("-o", result_json(&result)?)?;
     }
     batch.commit()?;
-    if let Some(dir) = &args.report {
-        ui.note(format!(
-            "report written to {}",
-            dir.join("report.html").display()
-        ));
-    }
+    report_note(args.report.as_deref(), ui);
     let taken = outputs.uses_stdout();
     if let Some(path) = args.output.as_ref().filter(|_| !taken) {
         ui.note(format!("result written to {}", path.display()));

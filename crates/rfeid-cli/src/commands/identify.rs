@@ -1,5 +1,7 @@
 //! `rfeid identify`: the full pipeline on measured data.
-use super::common::{apply_steps, fix_parameters, load, load_data, simulation_failure, steps_note};
+use super::common::{
+    apply_steps, fix_parameters, load, load_data, report_note, simulation_failure, steps_note,
+};
 use crate::cli::{IdentifyArgs, MethodArg, SearchArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
@@ -75,12 +77,7 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     }
     batch.file("-o", result_json(&result)?)?;
     batch.commit()?;
-    if let Some(dir) = &args.report {
-        ui.note(format!(
-            "report written to {}",
-            dir.join("report.html").display()
-        ));
-    }
+    report_note(args.report.as_deref(), ui);
     let taken = outputs.uses_stdout();
     show_result(&model, &result, "nominal", args.search.timings, taken, ui)?;
     if !taken {

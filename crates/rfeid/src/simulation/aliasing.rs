@@ -56,23 +56,7 @@ pub fn above_nyquist(model: &Model, params: &[f64]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::model_file::parse_model;
-    use std::path::Path;
-
-    fn oscillator(f: f64, drive: f64, rate: f64) -> Model {
-        let k = (2.0 * std::f64::consts::PI * f).powi(2);
-        let text = format!(
-            "[simulation]\nduration = 0.05\nsample_rate = {rate}\n\n\
-             [[body]]\nname = \"b\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\ncom = [0, 0, 0]\n\n\
-             [[element]]\nname = \"s\"\nbody = \"b\"\nto = \"ground\"\nat = [0, 0, 0]\n\
-             ux = {{ k = {k}, c = 1.0 }}\n\n\
-             [[excitation]]\nname = \"p\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
-             signal = {{ type = \"sine\", amplitude = 1.0, frequency = {drive} }}\n\n\
-             [[sensor]]\nname = \"x\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
-             quantity = \"displacement\"\n"
-        );
-        parse_model(&text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
-    }
+    use crate::simulation::test_models::oscillator;
 
     #[test]
     fn modes_and_excitations_above_nyquist_are_named() {

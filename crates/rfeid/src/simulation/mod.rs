@@ -13,6 +13,8 @@ pub mod structure;
 pub mod system;
 pub mod tableau;
 mod tangent;
+#[cfg(test)]
+mod test_models;
 
 pub use run::{Integrator, Response, Sensitivities, Simulator, Workspace};
 pub use steps::StepChoice;
