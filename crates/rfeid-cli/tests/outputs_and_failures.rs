@@ -8,7 +8,9 @@ mod support;
 
 use std::path::Path;
 use std::time::Duration;
-use support::{finished, flat, oscillator_model, rfeid, scratch_dir, simulate_csv, temporaries};
+use support::{
+    finished, flat, identify, oscillator_model, rfeid, scratch_dir, simulate_csv, temporaries,
+};
 
 /// `simulate model.toml -o model.toml` replaced the model; `identify … -o
 /// data.csv` replaced the data. Both are refused (exit 2), also through a
@@ -32,13 +34,7 @@ fn an_output_equal_to_an_input_is_refused() {
     let link = dir.join("link.csv");
     std::os::unix::fs::symlink(&data, &link).unwrap();
     for target in [&data, &link] {
-        let out = rfeid()
-            .arg("identify")
-            .arg(&model)
-            .arg("--data")
-            .arg(&data)
-            .arg("-o")
-            .arg(target)
+        let out = identify(&model, &data, target)
             .args(["--plan", "4", "-q"])
             .output()
             .unwrap();
@@ -128,13 +124,7 @@ fn no_output_is_left_when_another_output_fails() {
     let result = dir.join("result.json");
     let not_a_dir = dir.join("file");
     std::fs::write(&not_a_dir, "x").unwrap();
-    let out = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&data)
-        .arg("-o")
-        .arg(&result)
+    let out = identify(&model, &data, &result)
         .arg("--report")
         .arg(&not_a_dir)
         .args(["--plan", "4", "-q"])
@@ -158,13 +148,7 @@ fn no_output_is_left_when_another_output_fails() {
     // holds its name): nothing of the new report appears.
     let report = dir.join("report");
     std::fs::create_dir_all(report.join("plan.svg")).unwrap();
-    let out = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&data)
-        .arg("-o")
-        .arg(&result)
+    let out = identify(&model, &data, &result)
         .arg("--report")
         .arg(&report)
         .args(["--plan", "4", "-q"])
@@ -247,13 +231,7 @@ fn a_report_replaces_the_old_one_whole() {
     std::fs::create_dir(&report).unwrap();
     std::fs::write(report.join("response-9-old.svg"), "<svg/>").unwrap();
     std::fs::write(report.join("report.html"), "old").unwrap();
-    let st = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&data)
-        .arg("-o")
-        .arg(dir.join("r.json"))
+    let st = identify(&model, &data, dir.join("r.json"))
         .arg("--report")
         .arg(&report)
         .args(["--plan", "4", "-q"])
@@ -285,13 +263,7 @@ fn an_interrupted_run_exits_cleanly() {
         .unwrap();
     assert!(st.success());
     for (signal, code) in [(libc::SIGINT, 130), (libc::SIGTERM, 143)] {
-        let child = rfeid()
-            .arg("identify")
-            .arg(&model)
-            .arg("--data")
-            .arg(&data)
-            .arg("-o")
-            .arg(dir.join("r.json"))
+        let child = identify(&model, &data, dir.join("r.json"))
             .arg("--report")
             .arg(dir.join("report"))
             .args(["--plan", "5000", "-q", "--threads", "1"])
@@ -319,13 +291,7 @@ fn absurd_sizes_are_refused_up_front() {
         (["--starts", "5000"], "1000"),
         (["--threads", "100000"], "1024"),
     ] {
-        let out = rfeid()
-            .arg("identify")
-            .arg(&model)
-            .arg("--data")
-            .arg(&data)
-            .arg("-o")
-            .arg(dir.join("r.json"))
+        let out = identify(&model, &data, dir.join("r.json"))
             .args(args)
             .args(
                 ["--plan", "100000"]
@@ -393,13 +359,7 @@ fn huge_finite_data_is_bad_input() {
     let huge = dir.join("huge.csv");
     std::fs::write(&huge, lines.join("\n") + "\n").unwrap();
     let result = dir.join("r.json");
-    let out = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&huge)
-        .arg("-o")
-        .arg(&result)
+    let out = identify(&model, &huge, &result)
         .args(["--plan", "4", "-q"])
         .output()
         .unwrap();
@@ -452,13 +412,7 @@ fn constant_data_are_refused() {
     let zero_csv = dir.join("zero.csv");
     std::fs::write(&zero_csv, zero.join("\n") + "\n").unwrap();
     let result = dir.join("r.json");
-    let out = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&zero_csv)
-        .arg("-o")
-        .arg(&result)
+    let out = identify(&model, &zero_csv, &result)
         .args(["--plan", "4", "-q"])
         .output()
         .unwrap();
@@ -495,13 +449,7 @@ fn mat_inflation_is_capped_by_what_the_file_claims() {
     file.extend_from_slice(&stream);
     let mat = dir.join("bomb.mat");
     std::fs::write(&mat, file).unwrap();
-    let out = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&mat)
-        .arg("-o")
-        .arg(dir.join("r.json"))
+    let out = identify(&model, &mat, dir.join("r.json"))
         .args(["--plan", "4", "-q"])
         .output()
         .unwrap();
@@ -611,13 +559,7 @@ fn debris_of_a_killed_run_does_not_block_the_next_report() {
     std::fs::create_dir(&report).unwrap();
     std::fs::write(report.join(".plan.svg.tmp-12345"), "x").unwrap();
     std::fs::write(report.join(".rfeid-12345-3.tmp"), "x").unwrap();
-    let st = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("--data")
-        .arg(&data)
-        .arg("-o")
-        .arg(dir.join("r.json"))
+    let st = identify(&model, &data, dir.join("r.json"))
         .arg("--report")
         .arg(&report)
         .args(["--plan", "4", "-q"])

@@ -16,6 +16,22 @@ pub fn rfeid() -> Command {
     Command::new(binary())
 }
 
+/// `rfeid identify MODEL --data DATA -o OUT`, for further options.
+pub fn identify(
+    model: impl AsRef<std::ffi::OsStr>,
+    data: impl AsRef<std::ffi::OsStr>,
+    out: impl AsRef<std::ffi::OsStr>,
+) -> Command {
+    let mut cmd = rfeid();
+    cmd.arg("identify")
+        .arg(model)
+        .arg("--data")
+        .arg(data)
+        .arg("-o")
+        .arg(out);
+    cmd
+}
+
 /// A new, empty scratch folder for one test.
 pub fn scratch_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rfeid-t-{}-{name}", std::process::id()));
