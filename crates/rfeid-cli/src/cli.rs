@@ -29,7 +29,7 @@ pub enum Command {
     Check(CheckArgs),
     /// Simulate the sensors' response at the parameters' nominal values and write CSV.
     #[command(
-        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o knee.csv --noise 0.02 --seed 1\n  rfeid simulate model.toml -o stiff.csv --set a_n1=\"450 daN/um^2\""
+        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o knee.csv --noise 0.02 --seed 1\n  rfeid simulate model.toml -o stiff.csv --set a_n1=\"450 daN/um^2\"\n  rfeid simulate examples/knee-column-campaign/model.toml --experiment low -o low.csv"
     )]
     Simulate(SimulateArgs),
     /// Identify the parameters that have a box from measured signals.
@@ -85,6 +85,9 @@ pub struct SimulateArgs {
     /// Also plot the responses to this SVG file (`-` for standard output).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
+    /// Simulate this `[[experiment]]` of the model file: its `set` values, sampling, excitations and sensors.
+    #[arg(long, value_name = "NAME")]
+    pub experiment: Option<String>,
 }
 
 /// `rfeid report`.

@@ -11,6 +11,9 @@ use rfeid::simulation::{Simulator, Workspace};
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     let mut model = load(&args.model)?;
+    if let Some(name) = &args.experiment {
+        model = experiment_model(&model, &args.model, name)?;
+    }
     apply_steps(&mut model, &args.steps)?;
     let mut plan = Plan::new();
     plan.input(&args.model).file("-o", &args.output);
@@ -92,6 +95,28 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         ));
     }
     Ok(())
+}
+
+/// The model as experiment `name` sees it; an unknown name is bad input
+/// that lists the experiments.
+pub fn experiment_model(
+    model: &rfeid::model::Model,
+    path: &std::path::Path,
+    name: &str,
+) -> Result<rfeid::model::Model, Failure> {
+    let e = model.experiment_index(name).ok_or_else(|| {
+        let known: Vec<&str> = model.experiments.iter().map(|e| e.name.as_str()).collect();
+        Failure::input_msg(format!(
+            "--experiment {name}: {} has no such [[experiment]] ({})",
+            path.display(),
+            if known.is_empty() {
+                "it has none".to_string()
+            } else {
+                format!("experiments: {}", known.join(", "))
+            }
+        ))
+    })?;
+    Ok(model.for_experiment(e))
 }
 
 /// A noise error with the sensor named.

@@ -4,9 +4,11 @@
 //! ([`crate::io::model_file`]) or in code, and everything downstream trusts
 //! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
 //! a fixed number or a reference to a [`Parameter`].
+mod experiment;
 pub mod geometry;
 mod signal;
 
+pub use experiment::{Experiment, Role};
 pub use signal::{Shape, Signal, Term};
 
 use nalgebra::{Matrix3, Vector3};
@@ -130,6 +132,9 @@ pub struct Parameter {
     pub unit: DisplayUnit,
     /// Physical dimension, from the places the parameter is used.
     pub dimension: crate::io::units::Dimension,
+    /// Identified once per fitted experiment (SPEC §5), reported as
+    /// `name[experiment]`.
+    pub per_experiment: bool,
 }
 
 /// How an identified parameter's box is mapped onto the normalised
@@ -246,6 +251,17 @@ pub struct Sensor {
     /// Where its measured signal is in a data file (column, variable or
     /// record); by default the signal named like the sensor.
     pub data: crate::io::data_file::DataSource,
+    /// Calibration gain (SPEC §5): the reading is `gain · motion + offset`.
+    pub gain: Value,
+    /// Calibration offset, in the reading's unit.
+    pub offset: Value,
+}
+
+impl Sensor {
+    /// Whether the sensor reads the motion itself (gain 1, offset 0).
+    pub fn is_plain(&self) -> bool {
+        self.gain == Value::Fixed(1.0) && self.offset == Value::Fixed(0.0)
+    }
 }
 
 /// The sampling of a run: N = round(duration · rate) samples at t_k = k / rate.
@@ -307,6 +323,9 @@ pub struct Model {
     pub gravity: Option<Vector3<f64>>,
     /// Files the model file read besides itself (signal tables), as opened.
     pub files: Vec<std::path::PathBuf>,
+    /// The tests of a campaign (SPEC §5); empty for a model fitted to one
+    /// data file.
+    pub experiments: Vec<Experiment>,
 }
 
 impl Model {

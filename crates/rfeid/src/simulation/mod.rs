@@ -1,6 +1,7 @@
 //! Simulation of the equations of motion (eq. 1) with forward sensitivities,
 //! static equilibrium and modal analysis.
 pub mod aliasing;
+mod calibration;
 mod dim;
 pub mod equilibrium;
 mod madd;

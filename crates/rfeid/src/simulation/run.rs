@@ -212,7 +212,9 @@ impl<'m> Simulator<'m> {
         ws: &mut Workspace,
         out: &mut Response,
     ) -> Result<(), SimulationError> {
-        self.integrate(params, &[], ws, out, None)
+        self.integrate(params, &[], ws, out, None)?;
+        super::calibration::apply(self.model, params, &[], out, None);
+        Ok(())
     }
 
     /// Simulates at `params` and computes the sensitivities of every sample to
@@ -232,7 +234,9 @@ impl<'m> Simulator<'m> {
         // of another shape (`integrate` resizes it).
         let rows = self.model.sensors.len() * self.model.sampling.n_samples();
         sens.values.resize(rows * wrt.len(), 0.0);
-        self.integrate(params, wrt, ws, out, Some(&mut sens.values))
+        self.integrate(params, wrt, ws, out, Some(&mut sens.values))?;
+        super::calibration::apply(self.model, params, wrt, out, Some(&mut sens.values));
+        Ok(())
     }
 
     /// A response buffer of the right shape.

@@ -63,6 +63,8 @@ pub struct RawFile {
     pub excitation: Vec<Spanned<RawExcitation>>,
     #[serde(default)]
     pub sensor: Vec<Spanned<RawSensor>>,
+    #[serde(default)]
+    pub experiment: Vec<Spanned<RawExperiment>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -125,6 +127,7 @@ pub struct RawParameter {
     pub min: Option<SNum>,
     pub max: Option<SNum>,
     pub scale: Option<Spanned<String>>,
+    pub per_experiment: Option<Spanned<bool>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -174,6 +177,25 @@ pub struct RawSensor {
     pub direction: Option<SVec>,
     pub quantity: Option<Spanned<String>>,
     pub data: Option<Spanned<crate::io::data_file::DataSource>>,
+    pub gain: Option<SNum>,
+    pub offset: Option<SNum>,
+}
+
+/// One test of a campaign (SPEC §5).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExperiment {
+    pub name: Option<Spanned<String>>,
+    pub data: Option<Spanned<String>>,
+    pub set: Option<Spanned<std::collections::BTreeMap<String, SNum>>>,
+    pub from: Option<SNum>,
+    pub duration: Option<SNum>,
+    pub sample_rate: Option<SNum>,
+    pub excitations: Option<Spanned<Vec<Spanned<String>>>>,
+    pub sensors: Option<Spanned<Vec<Spanned<String>>>>,
+    #[serde(rename = "use")]
+    pub role: Option<Spanned<String>>,
+    pub weight: Option<SNum>,
 }
 
 /// The file read loosely, every entry a plain table with its span: used only
@@ -191,4 +213,6 @@ pub struct LooseFile {
     pub excitation: Vec<Spanned<toml::Table>>,
     #[serde(default)]
     pub sensor: Vec<Spanned<toml::Table>>,
+    #[serde(default)]
+    pub experiment: Vec<Spanned<toml::Table>>,
 }

@@ -30,6 +30,7 @@ pub(super) struct ParamDraft {
     pub(super) value_spans: [Range<usize>; 3],
     pub(super) unit: DisplayUnit,
     pub(super) scale: Scale,
+    pub(super) per_experiment: bool,
     pub(super) uses: Vec<(Dimension, Range<usize>, String, String)>,
 }
 
@@ -359,6 +360,7 @@ pub(super) fn entry_at(text: &str, pos: usize) -> Option<String> {
         ("parameter", &loose.parameter),
         ("excitation", &loose.excitation),
         ("sensor", &loose.sensor),
+        ("experiment", &loose.experiment),
     ];
     for (kind, entries) in kinds {
         for (i, e) in entries.iter().enumerate() {

@@ -1,6 +1,7 @@
 //! From the raw file to a validated [`Model`].
 mod component;
 mod ctx;
+mod experiments;
 mod parameters;
 mod signal;
 
@@ -119,8 +120,21 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             _ => DisplayUnit::default(),
         };
         let scale = parameter_scale(&ctx, rp, p.span(), &entry, bounds.map(|b| (b.0 .0, b.1 .0)))?;
+        let per_experiment = match &rp.per_experiment {
+            Some(f) if *f.get_ref() && bounds.is_none() => {
+                return Err(ctx.err(
+                    Some(f.span()),
+                    &entry,
+                    "per_experiment",
+                    "only an identified parameter can differ between experiments: give 'min' and 'max' too",
+                ))
+            }
+            Some(f) => *f.get_ref(),
+            None => false,
+        };
         ctx.param_index.insert(name.clone(), i);
         ctx.params.push(ParamDraft {
+            per_experiment,
             name,
             span,
             value: (value, vdim),
@@ -382,6 +396,19 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             }
             None => crate::io::data_file::DataSource::for_sensor(&name),
         };
+        let reading = match kind {
+            SensorKind::Displacement => Dimension::LENGTH,
+            SensorKind::Velocity => Dimension::LENGTH.div(Dimension::TIME),
+            SensorKind::Acceleration => Dimension::LENGTH.div(Dimension::TIME.powf(2.0)),
+        };
+        let gain = match &rs.gain {
+            Some(g) => ctx.value(g, Dimension::DIMENSIONLESS, &entry, "gain")?,
+            None => Value::Fixed(1.0),
+        };
+        let offset = match &rs.offset {
+            Some(o) => ctx.value(o, reading, &entry, "offset")?,
+            None => Value::Fixed(0.0),
+        };
         sensors.push(Sensor {
             name,
             body,
@@ -389,6 +416,8 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
             direction,
             kind,
             data,
+            gain,
+            offset,
         });
     }
     if sensors.is_empty() {
@@ -412,7 +441,10 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     };
 
     let parameters = finish_parameters(&ctx)?;
+    let experiments =
+        experiments::experiments(&ctx, &raw, &parameters, &excitations, &sensors, &sampling)?;
     Ok(Model {
+        experiments,
         bodies,
         elements,
         parameters,

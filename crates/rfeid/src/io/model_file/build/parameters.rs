@@ -81,6 +81,7 @@ pub(super) fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
             scale: p.scale,
             unit: p.unit.clone(),
             dimension: *dim,
+            per_experiment: p.per_experiment,
         });
     }
     Ok(out)
