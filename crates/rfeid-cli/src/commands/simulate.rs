@@ -83,7 +83,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         args.output.display()
     ));
     ui.note(steps_note(&steps));
-    for w in rfeid::simulation::aliasing::above_nyquist(&model, &params) {
+    for w in rfeid::simulation::aliasing::above_nyquist(&sim, &params) {
         ui.note(format!("warning: {w}"));
     }
     for (c, s) in model.sensors.iter().enumerate() {

@@ -548,7 +548,10 @@ pub fn finish(
     {
         let mut x = Vec::new();
         problem.all_params(&best.u, &mut x);
-        step_warnings.extend(crate::simulation::aliasing::above_nyquist(model, &x));
+        step_warnings.extend(crate::simulation::aliasing::above_nyquist(
+            problem.simulator(),
+            &x,
+        ));
     }
     let t_local = t_local.elapsed().as_secs_f64();
 

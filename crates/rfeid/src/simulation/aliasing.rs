@@ -1,35 +1,136 @@
 //! Response content that sampled data cannot show: natural frequencies of
 //! the model at a parameter point, and excitation frequencies, above the
 //! Nyquist frequency (half the sample rate).
-use super::modal::modal_analysis;
-use super::steps::integrator;
-use super::Simulator;
-use crate::model::{Model, Shape};
+//!
+//! A power-law spring `a·sign(δ)|δ|^m` with m > 1 has zero slope at rest
+//! (eq. 2–6): linearised there, the modes it restrains look slow or absent,
+//! however stiff the joint becomes once it deforms. So the modes are also
+//! taken along the simulated response: at the sample where each power-law
+//! deformation is largest, the tangent stiffness `K_t(q)` gives the modes of
+//! the motion about that state, and the highest of them is compared with
+//! the Nyquist frequency. That costs one simulation without sensitivities
+//! and one small symmetric eigenproblem per power-law component.
+use super::equilibrium::static_equilibrium;
+use super::modal::{highest_frequency_at, modal_analysis};
+use super::{Simulator, Workspace};
+use crate::model::{Law, Shape, COMPONENT_NAMES};
+
+/// The fastest mode of the model linearised along its response.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FastestMode {
+    /// Its undamped natural frequency, Hz.
+    pub frequency_hz: f64,
+    /// The sample time of the state it was found at, s.
+    pub time: f64,
+    /// The power-law component most deformed there, as `element/component`.
+    pub component: String,
+}
+
+/// The highest natural frequency of the model linearised along its response
+/// at `params` (see the module documentation): `None` if the model has no
+/// power-law springs, or if the simulation fails (which reports itself).
+pub fn fastest_along_response(sim: &Simulator<'_>, params: &[f64]) -> Option<FastestMode> {
+    let model = sim.model();
+    let structure = sim.structure();
+    let power: Vec<_> = structure
+        .components
+        .iter()
+        .filter(|c| matches!(c.law, Law::Power { .. }))
+        .collect();
+    if power.is_empty() {
+        return None;
+    }
+    let sys = sim.system(params).ok()?;
+    let n = sys.n;
+    let q0 = match model.gravity {
+        Some(_) => static_equilibrium(&sys, &[]).ok()?.q,
+        None => vec![0.0; n],
+    };
+    let path = sim.coordinates(params, &mut Workspace::default()).ok()?;
+    let samples = path.n_samples;
+    // The sample of largest |δ| for each power-law component.
+    let mut most = vec![(0usize, -1.0_f64); power.len()];
+    let mut q = q0.clone();
+    for k in 0..samples {
+        for (i, qi) in q.iter_mut().enumerate() {
+            *qi = q0[i] + path.values[i * samples + k];
+        }
+        for (m, comp) in most.iter_mut().zip(&power) {
+            let d = comp.row.dot(&q).abs();
+            if d > m.1 {
+                *m = (k, d);
+            }
+        }
+    }
+    let mut fastest: Option<FastestMode> = None;
+    for (&(k, _), comp) in most.iter().zip(&power) {
+        for (i, qi) in q.iter_mut().enumerate() {
+            *qi = q0[i] + path.values[i * samples + k];
+        }
+        let f = highest_frequency_at(&sys, &q);
+        if f.is_finite() && fastest.as_ref().is_none_or(|m| f > m.frequency_hz) {
+            fastest = Some(FastestMode {
+                frequency_hz: f,
+                time: model.sampling.time(k),
+                component: format!(
+                    "{}/{}",
+                    model.elements[comp.element].name, COMPONENT_NAMES[comp.dof]
+                ),
+            });
+        }
+    }
+    fastest
+}
 
 /// Warnings, in words, about content of the model's response at `params`
-/// above the data's Nyquist frequency: none if there is none (or if the
-/// modal analysis fails; the simulation reports that itself).
-pub fn above_nyquist(model: &Model, params: &[f64]) -> Vec<String> {
+/// above the data's Nyquist frequency: modes linearised at rest (or at the
+/// equilibrium under gravity) and along the response, and excitation
+/// frequencies. None if there is none (or if the modal analysis fails; the
+/// simulation reports that itself).
+pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
+    let model = sim.model();
     let nyquist = model.sampling.sample_rate / 2.0;
     let mut warnings = Vec::new();
-    let sim = Simulator::with_integrator(model, integrator(1));
-    if let Ok(modal) = modal_analysis(&sim, params) {
+    // Modes above the Nyquist frequency at rest: (how many, of how many, fastest).
+    let at_rest = modal_analysis(sim, params).ok().map(|modal| {
         let above: Vec<f64> = modal
             .modes
             .iter()
             .map(|m| m.frequency_hz)
             .filter(|f| *f > nyquist)
             .collect();
-        if let Some(fastest) = above.iter().cloned().reduce(f64::max) {
-            warnings.push(format!(
-                "{} of the model's {} modes (linearised at rest, at the estimate) lie above the \
-                 data's Nyquist frequency of {nyquist} Hz, the fastest at {fastest:.1} Hz: the data \
-                 cannot show that content, so the parameters that set those modes rest on the \
-                 rest of the response only; sample faster if you can",
-                above.len(),
-                modal.modes.len()
-            ));
-        }
+        let fastest = above.iter().cloned().fold(0.0, f64::max);
+        (above.len(), modal.modes.len(), fastest)
+    });
+    let rest_text = |(above, of, fastest): (usize, usize, f64)| {
+        format!("modes above it when linearised at rest: {above} of {of}, the fastest at {fastest:.1} Hz")
+    };
+    let along = fastest_along_response(sim, params)
+        .filter(|m| m.frequency_hz > nyquist)
+        .filter(|m| at_rest.is_none_or(|r| m.frequency_hz > r.2));
+    let what = match (along, at_rest.filter(|r| r.0 > 0)) {
+        (Some(m), rest) => Some(format!(
+            "linearised along its response, the model has a mode at {:.1} Hz, above the data's \
+             Nyquist frequency of {nyquist} Hz (at t = {:.4} s, where the power-law joint {} is \
+             most deformed, so stiffest){}",
+            m.frequency_hz,
+            m.time,
+            m.component,
+            rest.map(|r| format!("; {}", rest_text(r)))
+                .unwrap_or_default()
+        )),
+        (None, Some(r)) => Some(format!(
+            "the data's Nyquist frequency is {nyquist} Hz: {}",
+            rest_text(r)
+        )),
+        (None, None) => None,
+    };
+    if let Some(what) = what {
+        warnings.push(format!(
+            "{what}; the data cannot show that content, so the parameters that set those modes \
+             rest on the rest of the response only (at these parameter values); sample faster if \
+             you can"
+        ));
     }
     for exc in &model.excitations {
         let highest = exc
@@ -56,21 +157,73 @@ pub fn above_nyquist(model: &Model, params: &[f64]) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::model_file::parse_model;
+    use crate::model::Model;
+    use crate::simulation::steps::fastest_mode_hz;
     use crate::simulation::test_models::oscillator;
+    use crate::simulation::Workspace;
+    use std::path::Path;
+
+    /// A unit mass on a power-law spring `a·sign(x)|x|²` (zero slope at
+    /// rest), driven by a sine of 1 N at 30 Hz, sampled at `rate` Hz.
+    fn power_oscillator(a: f64, rate: f64) -> Model {
+        let text = format!(
+            "[simulation]\nduration = 0.05\nsample_rate = {rate}\n\n\
+             [[body]]\nname = \"b\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\ncom = [0, 0, 0]\n\n\
+             [[element]]\nname = \"s\"\nbody = \"b\"\nto = \"ground\"\nat = [0, 0, 0]\n\
+             ux = {{ law = \"power\", a = {a}, m = 2.0, c = 1.0 }}\n\n\
+             [[excitation]]\nname = \"p\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
+             signal = {{ type = \"sine\", amplitude = 1.0, frequency = 30.0 }}\n\n\
+             [[sensor]]\nname = \"x\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
+             quantity = \"displacement\"\n"
+        );
+        parse_model(&text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn a_power_law_springs_mode_is_taken_where_it_is_most_deformed() {
+        // Closed form: the slope 2a|x| at the largest |x| of the simulated
+        // displacement over a unit mass, ω² = 2a·max|x| (eq. 2–6).
+        let a = 4e12;
+        let m = power_oscillator(a, 4000.0);
+        let sim = Simulator::new(&m);
+        let mut out = sim.response_buffer();
+        sim.run(&m.nominal(), &mut Workspace::default(), &mut out)
+            .unwrap();
+        let x_max = out.sensor(0).iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+        let f = (2.0 * a * x_max).sqrt() / (2.0 * std::f64::consts::PI);
+        let found = fastest_along_response(&sim, &m.nominal()).unwrap();
+        assert!(
+            (found.frequency_hz - f).abs() <= 1e-12 * f,
+            "{found:?} vs {f}"
+        );
+        assert_eq!(found.component, "s/ux");
+        assert!(f > 100.0 && f < 1000.0, "{f}");
+        // At rest the spring has no slope: nothing to warn about there.
+        assert!(fastest_mode_hz(&m, &m.nominal()).unwrap() == 0.0);
+        assert!(above_nyquist(&sim, &m.nominal()).is_empty());
+        let slow = power_oscillator(a, 1.5 * f);
+        let w = above_nyquist(&Simulator::new(&slow), &slow.nominal());
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].contains("along its response") && w[0].contains("s/ux"),
+            "{w:?}"
+        );
+    }
 
     #[test]
     fn modes_and_excitations_above_nyquist_are_named() {
         let m = oscillator(100.0, 30.0, 1000.0);
-        assert!(above_nyquist(&m, &m.nominal()).is_empty());
+        assert!(above_nyquist(&Simulator::new(&m), &m.nominal()).is_empty());
         let m = oscillator(700.0, 30.0, 1000.0);
-        let w = above_nyquist(&m, &m.nominal());
+        let w = above_nyquist(&Simulator::new(&m), &m.nominal());
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(
             w[0].contains("700.0 Hz") && w[0].contains("500 Hz"),
             "{w:?}"
         );
         let m = oscillator(100.0, 600.0, 1000.0);
-        let w = above_nyquist(&m, &m.nominal());
+        let w = above_nyquist(&Simulator::new(&m), &m.nominal());
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].contains("excitation 'p' reaches 600 Hz"), "{w:?}");
     }

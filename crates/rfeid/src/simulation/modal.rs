@@ -11,7 +11,7 @@
 //! linearised at rest it contributes no stiffness. The modes it alone would
 //! restrain appear as zero-stiffness modes, which are reported, not an error.
 use super::equilibrium::static_equilibrium;
-use super::system::power_law;
+use super::system::{power_law, System};
 use super::{SimulationError, Simulator};
 use nalgebra::{DMatrix, SymmetricEigen};
 
@@ -46,19 +46,16 @@ pub fn modal_analysis(
     params: &[f64],
 ) -> Result<ModalAnalysis, SimulationError> {
     let model = sim.model();
-    let sys = sim.system(params)?;
+    let sys = &sim.system(params)?;
     let n = sys.n;
     let q = if model.gravity.is_some() {
-        static_equilibrium(&sys, &[])?.q
+        static_equilibrium(sys, &[])?.q
     } else {
         vec![0.0; n]
     };
-    let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
     let c = DMatrix::from_row_slice(n, n, &sys.damping_matrix());
     let linv: Vec<f64> = sys.minv.iter().map(|m| m.sqrt()).collect();
-    let a = DMatrix::from_fn(n, n, |i, j| linv[i] * kt[(i, j)] * linv[j]);
-    let a = (&a + a.transpose()) * 0.5;
-    let eig = SymmetricEigen::new(a);
+    let eig = SymmetricEigen::new(mass_scaled_tangent(sys, &q));
     let lam_max = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
@@ -108,4 +105,25 @@ pub fn modal_analysis(
         at_equilibrium: model.gravity.is_some(),
         zero_slope_components,
     })
+}
+
+/// `L⁻¹ K_t(q) L⁻ᵀ` with `M = L Lᵀ`: its eigenvalues are the squared
+/// undamped natural frequencies ω² of the model linearised at `q`.
+fn mass_scaled_tangent(sys: &System<'_>, q: &[f64]) -> DMatrix<f64> {
+    let n = sys.n;
+    let kt = sys.tangent_stiffness(q);
+    let linv: Vec<f64> = sys.minv.iter().map(|m| m.sqrt()).collect();
+    let a = DMatrix::from_fn(n, n, |i, j| linv[i] * kt[i * n + j] * linv[j]);
+    (&a + a.transpose()) * 0.5
+}
+
+/// The highest undamped natural frequency, Hz, of the model linearised at
+/// the coordinates `q` (any state, not only rest: a power-law spring
+/// stiffens as it deforms, eq. 2–6).
+pub fn highest_frequency_at(sys: &System<'_>, q: &[f64]) -> f64 {
+    let lam = SymmetricEigen::new(mass_scaled_tangent(sys, q))
+        .eigenvalues
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(*v));
+    lam.sqrt() / (2.0 * std::f64::consts::PI)
 }

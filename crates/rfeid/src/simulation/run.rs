@@ -239,6 +239,30 @@ impl<'m> Simulator<'m> {
         Ok(())
     }
 
+    /// The generalized coordinates along the response at `params`, for
+    /// analyses of the trajectory (not for the hot path): `values[i *
+    /// n_samples + k]` is `q_i(t_k) − q_i(0)`, the initial state being rest
+    /// or the static equilibrium under gravity. The same steps as
+    /// [`Simulator::run`], with one displacement reading per coordinate.
+    pub fn coordinates(
+        &self,
+        params: &[f64],
+        ws: &mut Workspace,
+    ) -> Result<Response, SimulationError> {
+        let n = self.structure.n;
+        let mut probe = self.clone();
+        probe.structure.sensors = (0..n)
+            .map(|i| {
+                let mut h = vec![0.0; n];
+                h[i] = 1.0;
+                (SensorKind::Displacement, h)
+            })
+            .collect();
+        let mut out = Response::zeros(n, self.model.sampling.n_samples());
+        probe.integrate(params, &[], ws, &mut out, None)?;
+        Ok(out)
+    }
+
     /// A response buffer of the right shape.
     pub fn response_buffer(&self) -> Response {
         Response::zeros(self.model.sensors.len(), self.model.sampling.n_samples())
@@ -302,7 +326,7 @@ impl<'m> Simulator<'m> {
         let tab = &self.integrator.tableau;
         let sampling = self.model.sampling;
         let n_samples = sampling.n_samples();
-        let n_sensors = self.model.sensors.len();
+        let n_sensors = self.structure.sensors.len();
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
