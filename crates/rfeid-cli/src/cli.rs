@@ -34,7 +34,7 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Identify the parameters that have a box from measured signals.
     #[command(
-        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o data.csv --noise 0.02 --seed 1\n  rfeid identify examples/knee-column/model.toml --data data.csv -o result.json"
+        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o data.csv --noise 0.02 --seed 1\n  rfeid identify examples/knee-column/model.toml --data data.csv -o result.json\n  examples/knee-column-campaign/generate.sh && rfeid identify examples/knee-column-campaign/model.toml -o result.json   # a campaign: every [[experiment]]"
     )]
     Identify(IdentifyArgs),
     /// The paper's example end to end: simulate the knee–column benchmark, then identify its 16 joint parameters.
@@ -188,8 +188,10 @@ pub struct IdentifyArgs {
     /// (v5; vectors by name and a `time` vector or `sample_rate`), or a
     /// universal file (.uff/.unv, dataset 58, ASCII or binary). A sensor's
     /// `data = { column | variable | record = … }` says where its signal is.
+    /// Not with a model that lists `[[experiment]]` entries, which name
+    /// their own data files.
     #[arg(long)]
-    pub data: PathBuf,
+    pub data: Option<PathBuf>,
     /// Result file (JSON); `-` for standard output.
     #[arg(short, long)]
     pub output: PathBuf,

@@ -45,10 +45,17 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let mut model = load(&args.model)?;
     fix_parameters(&mut model, &args.set)?;
     apply_steps(&mut model, &args.search.steps)?;
+    if !model.experiments.is_empty() {
+        return super::campaign::run(&args, &model, ui);
+    }
+    let data = args.data.as_deref().ok_or_else(|| {
+        Failure::input_msg(format!(
+            "--data DATA is needed: {} lists no [[experiment]] with data files of its own",
+            args.model.display()
+        ))
+    })?;
     let mut plan = Plan::new();
-    plan.input(&args.model)
-        .input(&args.data)
-        .file("-o", &args.output);
+    plan.input(&args.model).input(data).file("-o", &args.output);
     for f in &model.files {
         plan.input(f);
     }
@@ -57,9 +64,9 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
-    let measured = load_data(&args.data, &model, ui)?;
+    let measured = load_data(data, &model, ui)?;
     if let Some(shard) = shard {
-        return super::shard::run(&args, &model, measured, shard, &outputs, ui);
+        return super::shard::run(&args, data, &model, measured, shard, &outputs, ui);
     }
     let start = match args.start {
         StartArg::Plan => Start::Plan,
@@ -68,10 +75,10 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     let mut result = run_search_from(&model, measured.clone(), &args.search, start, ui)?;
     result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
-    result.source.data = Some(args.data.display().to_string());
+    result.source.data = Some(data.display().to_string());
     let mut batch = outputs.batch();
     if args.report.is_some() {
-        let title = format!("{} with {}", args.model.display(), args.data.display());
+        let title = format!("{} with {}", args.model.display(), data.display());
         let files = super::report::render(&model, &result, &measured, None, &title)?;
         batch.report("--report", &files)?;
     }
@@ -299,6 +306,20 @@ pub fn prepare<'m>(
             names.join(", ")
         ));
     }
+    let (settings, progress) = search_settings(a, ui)?;
+    let sim = Simulator::choose(model, &model.nominal()).map_err(|e| {
+        simulation_failure(
+            "choosing the integrator's steps at the nominal parameter values",
+            e,
+        )
+    })?;
+    ui.note(steps_note(&sim.steps()));
+    let problem = OutputError::new(sim, measured, first);
+    Ok((problem, settings, progress))
+}
+
+/// The pipeline's settings from the command line, and the progress display.
+pub fn search_settings(a: &SearchArgs, ui: &Ui) -> Result<(Settings, Bars), Failure> {
     let window = a.window.unwrap_or(DEFAULT_WINDOW);
     if !(0.0..1.0).contains(&window) {
         return Err(Failure::input_msg(format!(
@@ -319,14 +340,6 @@ pub fn prepare<'m>(
         window: Some(window).filter(|w| *w > 0.0),
         ..Settings::default()
     };
-    let sim = Simulator::choose(model, &model.nominal()).map_err(|e| {
-        simulation_failure(
-            "choosing the integrator's steps at the nominal parameter values",
-            e,
-        )
-    })?;
-    ui.note(steps_note(&sim.steps()));
-    let problem = OutputError::new(sim, measured, first);
     let target = if ui.quiet {
         ProgressDrawTarget::hidden()
     } else {
@@ -342,7 +355,7 @@ pub fn prepare<'m>(
         bar,
         quiet: ui.quiet,
     };
-    Ok((problem, settings, progress))
+    Ok((settings, progress))
 }
 
 /// The paper-style tables (Tables 1–2) and diagnostics.
@@ -447,6 +460,29 @@ pub fn format_result(
     }
     for w in &r.warnings {
         let _ = writeln!(out, "warning: {w}");
+    }
+    for e in &r.experiments {
+        let fits: Vec<String> = e
+            .sensors
+            .iter()
+            .zip(&e.fits)
+            .map(|(s, f)| match f {
+                Some(f) => format!("{s} {f:.2} %"),
+                None => format!("{s} -"),
+            })
+            .collect();
+        let role = match e.role {
+            rfeid::model::Role::Fit => "fitted",
+            rfeid::model::Role::Validation => "validation, not fitted",
+        };
+        let _ = writeln!(
+            out,
+            "experiment {} ({role}, {} samples from t = {} s): {}",
+            e.name,
+            e.samples,
+            e.from,
+            fits.join(", ")
+        );
     }
     write_verdict(&mut out, r);
     if timings {

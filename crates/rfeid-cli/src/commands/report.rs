@@ -105,6 +105,53 @@ pub fn reference_of(model: &Model, result: &IdentificationResult) -> Vec<f64> {
         .collect()
 }
 
+/// The report of a campaign: the fitted experiments' sensors side by side
+/// (`sensor[experiment]`, as in the result), each simulated at the estimate,
+/// on the shortest of their records; the experiments' fits in the summary.
+pub fn render_campaign(
+    model: &Model,
+    models: &[Model],
+    result: &IdentificationResult,
+    measured: &[Response],
+    title: &str,
+) -> Result<Vec<(String, String)>, Failure> {
+    let fitted_idx = model.fitted_experiments();
+    let n = fitted_idx
+        .iter()
+        .map(|&e| measured[e].n_samples)
+        .min()
+        .unwrap_or(0);
+    let (mut y, mut g) = (Vec::new(), Vec::new());
+    let mut sensors = 0;
+    for &e in &fitted_idx {
+        let name = &model.experiments[e].name;
+        let sim = super::campaign::simulate_at_estimate(result, &models[e], name)?;
+        for c in 0..measured[e].n_sensors {
+            y.extend_from_slice(&measured[e].sensor(c)[..n]);
+            g.extend_from_slice(&sim.sensor(c)[..n]);
+            sensors += 1;
+        }
+    }
+    let stack = |values| Response {
+        n_samples: n,
+        n_sensors: sensors,
+        values,
+    };
+    let (measured, fitted) = (stack(y), stack(g));
+    let first = fitted_idx.first().map_or(0, |&e| e);
+    let time: Vec<f64> = (0..n).map(|k| models[first].sampling.time(k)).collect();
+    let input = ReportInput {
+        title: title.to_string(),
+        model,
+        result,
+        time: &time,
+        measured: &measured,
+        fitted: &fitted,
+        reference: None,
+    };
+    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
+}
+
 /// Simulates at the estimate and renders the report's files (name, text).
 pub fn render(
     model: &Model,

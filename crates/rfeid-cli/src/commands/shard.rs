@@ -238,6 +238,7 @@ pub fn share(k: usize, n: usize, points: usize) -> Vec<usize> {
 /// Runs shard `(k, n)` of `args`' identification and writes its file.
 pub fn run(
     args: &IdentifyArgs,
+    data: &Path,
     model: &Model,
     measured: Response,
     (k, n): (usize, usize),
@@ -245,7 +246,7 @@ pub fn run(
     ui: &Ui,
 ) -> Result<(), Failure> {
     let spec = SearchSpec::of(&args.search);
-    let hash = run_hash(&args.model, model, &args.data, &spec)?;
+    let hash = run_hash(&args.model, model, data, &spec)?;
     let mut file = ShardFile {
         format: FORMAT.into(),
         hash,
@@ -253,7 +254,7 @@ pub fn run(
         of: n,
         search: spec,
         model: args.model.display().to_string(),
-        data: args.data.display().to_string(),
+        data: data.display().to_string(),
         seconds: 0.0,
         complete: false,
         points: Vec::new(),

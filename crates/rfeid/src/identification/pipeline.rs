@@ -7,10 +7,12 @@ use super::plan::{LpTau, Plan, PlanError};
 use super::plan_eval::{evaluate_indices, rank};
 use super::problem::{sum_of_squares, LeastSquares};
 pub use super::result::StartFailure;
-use super::result::{IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings};
+use super::result::{
+    ExperimentSummary, IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings,
+};
 use super::termination::{SolveError, StopReason};
 use super::uncertainty::{cramer_rao_mapped, IdentifiabilityWarning, UncertaintySettings};
-use super::verdict::{assess, Evidence, StartEnd, VerdictSettings};
+use super::verdict::{assess, Evidence, FitSignal, StartEnd, VerdictSettings};
 use crate::simulation::steps::{choose_steps, estimate_error};
 use crate::simulation::{SimulationError, StepChoice};
 use nalgebra::DMatrix;
@@ -193,6 +195,11 @@ fn start_search(
     let Some(fraction) = settings.window.filter(|f| *f > 0.0 && *f < 1.0) else {
         return local_search(problem, settings, u0, progress);
     };
+    if problem.n_experiments() > 1 {
+        // A campaign's experiments have records of their own lengths; the
+        // window applies to one record.
+        return local_search(problem, settings, u0, progress);
+    }
     let model = problem.simulator().model();
     let first = problem.first_sample();
     let n = problem.measured().n_samples;
@@ -285,24 +292,10 @@ fn local_search(
     }
 }
 
-/// Per-sensor sums of squared unweighted residuals at u.
+/// Per-sensor sums of squared unweighted residuals at u, every
+/// experiment's sensors in turn.
 fn sensor_ssr(problem: &OutputError<'_>, u: &[f64]) -> Result<Vec<f64>, SimulationError> {
-    Ok(ssr_of(problem, &problem.simulate(u)?))
-}
-
-/// Per-sensor sums of squared unweighted residuals of the response `g`.
-fn ssr_of(problem: &OutputError<'_>, g: &crate::simulation::Response) -> Vec<f64> {
-    let y = problem.measured();
-    let first = problem.first_sample();
-    (0..y.n_sensors)
-        .map(|c| {
-            g.sensor(c)[first..]
-                .iter()
-                .zip(&y.sensor(c)[first..])
-                .map(|(a, b)| (a - b) * (a - b))
-                .sum()
-        })
-        .collect()
+    Ok(problem.sensor_ssr(&problem.simulate_all(u)?))
 }
 
 /// J at one plan point, or why it could not be evaluated (in words).
@@ -461,11 +454,17 @@ pub fn finish(
         for _ in 0..5 {
             let ssr =
                 sensor_ssr(&problem, &best.u).map_err(|e| IdentifyError::Solve(e.to_string()))?;
-            sims += 1;
-            let used = problem.samples_used() as f64;
+            sims += problem.n_experiments();
             let weights: Vec<f64> = ssr
                 .iter()
-                .map(|s| if *s > 0.0 { used / s } else { f64::INFINITY })
+                .zip(problem.weight_samples())
+                .map(|(s, used)| {
+                    if *s > 0.0 {
+                        used as f64 / s
+                    } else {
+                        f64::INFINITY
+                    }
+                })
                 .collect();
             // A sensor fitted exactly (zero residuals) gets the largest finite
             // weight, not an arbitrary one.
@@ -503,40 +502,18 @@ pub fn finish(
     // finer ones, continue the search with those.
     let mut step_warnings = Vec::new();
     for _ in 0..3 {
-        let mut x = Vec::new();
-        problem.all_params(&best.u, &mut x);
-        let held = problem.simulator().steps();
-        let checked = match held.automatic {
-            true => choose_steps(model, &x, held.tolerance, held.substeps),
-            false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
-                estimated_error: Some(e),
-                runs: 2,
-                ..held
-            }),
-        };
-        let c = match checked {
-            Ok(c) => c,
-            Err(e) => {
-                step_warnings.push(format!(
-                    "the simulation's accuracy at the estimate could not be checked: {e}"
-                ));
-                break;
+        let mut finer = false;
+        for p in 0..problem.n_experiments() {
+            match check_steps(&mut problem, p, &best.u) {
+                Ok((c, changed)) => {
+                    sims += c;
+                    finer |= changed.is_none();
+                    step_warnings.extend(changed.flatten());
+                }
+                Err(w) => step_warnings.push(w),
             }
-        };
-        sims += c.runs;
-        problem.set_steps(StepChoice {
-            runs: held.runs + c.runs,
-            ..c
-        });
-        if c.substeps == held.substeps {
-            if let Some(e) = c.estimated_error.filter(|e| *e > c.tolerance) {
-                step_warnings.push(format!(
-                    "the fixed {} step(s) per sample give an estimated relative error of {e:.2e} \
-                     at the estimate, more than the tolerance {:.1e}; leave `substeps` unset to \
-                     have them chosen",
-                    c.substeps, c.tolerance
-                ));
-            }
+        }
+        if !finer {
             break;
         }
         let s = local_search(&problem, settings, &best.u, progress)?;
@@ -545,14 +522,16 @@ pub fn finish(
         failed += s.failed;
         best = s;
     }
-    {
+    step_warnings.dedup();
+    for p in 0..problem.n_experiments() {
         let mut x = Vec::new();
-        problem.all_params(&best.u, &mut x);
+        problem.experiment_params(p, &best.u, &mut x);
         step_warnings.extend(crate::simulation::aliasing::above_nyquist(
-            problem.simulator(),
+            problem.experiment_simulator(p),
             &x,
         ));
     }
+    step_warnings.dedup();
     let t_local = t_local.elapsed().as_secs_f64();
 
     // 3. Cramér–Rao bounds (eq. 26–29) from the exact Jacobian at the estimate.
@@ -582,11 +561,8 @@ pub fn finish(
     };
     let t_unc = t_unc.elapsed().as_secs_f64();
 
-    let wrt = problem.wrt().to_vec();
-    let names: Vec<&str> = wrt
-        .iter()
-        .map(|&i| model.parameters[i].name.as_str())
-        .collect();
+    let wrt = problem.wrt();
+    let names: Vec<&str> = problem.columns().iter().map(|c| c.name.as_str()).collect();
     let x = problem.to_physical(&best.u);
     let parameters = wrt
         .iter()
@@ -595,7 +571,7 @@ pub fn finish(
             let p = &model.parameters[i];
             let (min, max) = p.bounds.expect("identified");
             ParameterEstimate {
-                name: p.name.clone(),
+                name: names[j].to_string(),
                 unit: p.unit.symbol.clone(),
                 unit_scale: p.unit.scale,
                 estimate: x[j],
@@ -612,13 +588,14 @@ pub fn finish(
         .map(|c| c.warnings.iter().map(|w| describe(w, &names)).collect())
         .unwrap_or_default();
     warnings.extend(step_warnings);
-    let fitted = problem.simulate(&best.u);
+    let fitted = problem.simulate_all(&best.u);
     let ssr = match &fitted {
-        Ok(g) => ssr_of(&problem, g).iter().sum(),
+        Ok(g) => problem.sensor_ssr(g).iter().sum(),
         Err(_) => f64::NAN,
     };
     let n_obs = n_res;
-    let sensors: Vec<String> = model.sensors.iter().map(|s| s.name.clone()).collect();
+    let signals = fit_signals(&problem, fitted.as_deref().ok());
+    let sensors: Vec<String> = signals.iter().map(|s| s.sensor.clone()).collect();
     let parameter_names: Vec<String> = names.iter().map(|s| s.to_string()).collect();
     let verdict = assess(
         &Evidence {
@@ -629,10 +606,10 @@ pub fn finish(
             stop: best.stop,
             iterations: best.iterations,
             termination: best.stop.to_string(),
-            sensors: &sensors,
-            measured: problem.measured(),
-            fitted: fitted.as_ref().map_err(|e| e.to_string()),
-            first: problem.first_sample(),
+            signals: match &fitted {
+                Ok(_) => Ok(signals.clone()),
+                Err(e) => Err(e.to_string()),
+            },
             identifiability: match (&uncertainty, &unc_error) {
                 (Some(c), _) => Ok(&c.warnings),
                 (None, e) => Err(e.clone().unwrap_or_default()),
@@ -641,6 +618,7 @@ pub fn finish(
         },
         &settings.verdict,
     );
+    let experiments = experiment_summaries(&problem, &verdict);
     Ok(IdentificationResult {
         parameters,
         criterion: best.cost,
@@ -696,7 +674,112 @@ pub fn finish(
         source: Default::default(),
         verdict: Some(verdict),
         simulation: Some(problem.simulator().steps()),
+        experiments,
     })
+}
+
+/// Checks experiment p's steps per sample at u and holds the checked ones:
+/// the simulations it took, and `Some(warning)` if the steps stay as they
+/// were (the warning if their error exceeds the tolerance) or `None` if
+/// they became finer, so the search must go on.
+fn check_steps(
+    problem: &mut OutputError<'_>,
+    p: usize,
+    u: &[f64],
+) -> Result<(usize, Option<Option<String>>), String> {
+    let mut x = Vec::new();
+    problem.experiment_params(p, u, &mut x);
+    let model = problem.experiment_simulator(p).model();
+    let held = problem.experiment_simulator(p).steps();
+    let checked = match held.automatic {
+        true => choose_steps(model, &x, held.tolerance, held.substeps),
+        false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
+            estimated_error: Some(e),
+            runs: 2,
+            ..held
+        }),
+    };
+    let c = checked.map_err(|e| {
+        format!("the simulation's accuracy at the estimate could not be checked: {e}")
+    })?;
+    problem.set_experiment_steps(
+        p,
+        StepChoice {
+            runs: held.runs + c.runs,
+            ..c
+        },
+    );
+    if c.substeps != held.substeps {
+        return Ok((c.runs, None));
+    }
+    let warning = c.estimated_error.filter(|e| *e > c.tolerance).map(|e| {
+        format!(
+            "the fixed {} step(s) per sample give an estimated relative error of {e:.2e} \
+             at the estimate, more than the tolerance {:.1e}; leave `substeps` unset to \
+             have them chosen",
+            c.substeps, c.tolerance
+        )
+    });
+    Ok((c.runs, Some(warning)))
+}
+
+/// Every sensor of every experiment, named `sensor[experiment]` in a
+/// campaign, with its measured and fitted signals from the first sample used.
+fn fit_signals<'a>(
+    problem: &'a OutputError<'_>,
+    fitted: Option<&'a [crate::simulation::Response]>,
+) -> Vec<FitSignal<'a>> {
+    let mut out = Vec::new();
+    for p in 0..problem.n_experiments() {
+        let model = problem.experiment_simulator(p).model();
+        let y = problem.experiment_measured(p);
+        let first = problem.experiment_first(p);
+        for (c, s) in model.sensors.iter().enumerate() {
+            out.push(FitSignal {
+                sensor: signal_name(&s.name, problem.experiment_name(p)),
+                measured: &y.sensor(c)[first..],
+                fitted: fitted.map_or(&[][..], |g| &g[p].sensor(c)[first..]),
+            });
+        }
+    }
+    out
+}
+
+/// `sensor`, or `sensor[experiment]` in a campaign.
+pub fn signal_name(sensor: &str, experiment: &str) -> String {
+    match experiment {
+        "" => sensor.to_string(),
+        e => format!("{sensor}[{e}]"),
+    }
+}
+
+/// The experiments of a campaign as RESULT.json lists them (none for a
+/// single data file).
+fn experiment_summaries(
+    problem: &OutputError<'_>,
+    verdict: &super::verdict::Verdict,
+) -> Vec<ExperimentSummary> {
+    if problem.n_experiments() == 1 && problem.experiment_name(0).is_empty() {
+        return Vec::new();
+    }
+    let mut fits = verdict.sensors.iter().map(|c| c.fit_percent);
+    (0..problem.n_experiments())
+        .map(|p| {
+            let sim = problem.experiment_simulator(p);
+            let m = sim.model();
+            ExperimentSummary {
+                name: problem.experiment_name(p).to_string(),
+                role: crate::model::Role::Fit,
+                data: None,
+                samples: problem.experiment_measured(p).n_samples,
+                sample_rate: m.sampling.sample_rate,
+                from: m.sampling.time(problem.experiment_first(p)),
+                weight: problem.experiment_weight(p),
+                sensors: m.sensors.iter().map(|s| s.name.clone()).collect(),
+                fits: fits.by_ref().take(m.sensors.len()).collect(),
+            }
+        })
+        .collect()
 }
 
 /// An identifiability warning in words, with parameter names.

@@ -96,6 +96,33 @@ pub struct Source {
     pub set: Vec<String>,
 }
 
+/// One experiment of a campaign, as RESULT.json lists it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ExperimentSummary {
+    /// Its name.
+    pub name: String,
+    /// Fitted, or left out for validation.
+    pub role: crate::model::Role,
+    /// Its data file, as the model file resolves it.
+    #[serde(default)]
+    pub data: Option<String>,
+    /// Samples per sensor.
+    pub samples: usize,
+    /// Sample rate, Hz.
+    pub sample_rate: f64,
+    /// Start of the fitted part, s.
+    pub from: f64,
+    /// Its weight w_e.
+    pub weight: f64,
+    /// Its sensors.
+    pub sensors: Vec<String>,
+    /// Fit per sensor at the estimate, % (normalised RMS fit as MATLAB's
+    /// `compare`, `100 (1 − ‖y − ŷ‖/‖y − mean y‖)`); `None` for a constant
+    /// measured signal.
+    #[serde(default)]
+    pub fits: Vec<Option<f64>>,
+}
+
 /// Everything an identification found.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct IdentificationResult {
@@ -159,9 +186,39 @@ pub struct IdentificationResult {
     /// RMS error of the simulated signals at the estimate.
     #[serde(default)]
     pub simulation: Option<crate::simulation::StepChoice>,
+    /// The experiments of a campaign (SPEC §5), fitted and validation ones;
+    /// empty for a single data file.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub experiments: Vec<ExperimentSummary>,
 }
 
 impl IdentificationResult {
+    /// All of `model`'s parameter values (SI) at the estimate, as experiment
+    /// `experiment` of a campaign sees them (`""` for a data file on its
+    /// own): the model's values, with each estimate put in, a
+    /// `name[experiment]` estimate only for its own experiment. An estimate
+    /// whose parameter the model lacks is an error naming it.
+    pub fn parameter_values(
+        &self,
+        model: &crate::model::Model,
+        experiment: &str,
+    ) -> Result<Vec<f64>, String> {
+        let mut x = model.nominal();
+        for p in &self.parameters {
+            let (name, of) = match p.name.strip_suffix(']').and_then(|n| n.split_once('[')) {
+                Some((name, e)) => (name, Some(e)),
+                None => (p.name.as_str(), None),
+            };
+            let i = model.parameter_index(name).ok_or_else(|| {
+                format!("the result's parameter '{}' is not in the model", p.name)
+            })?;
+            if of.is_none_or(|e| e == experiment) {
+                x[i] = p.estimate;
+            }
+        }
+        Ok(x)
+    }
+
     /// `true` if a verdict was drawn and it is not trustworthy.
     pub fn is_suspect(&self) -> bool {
         self.verdict.as_ref().is_some_and(|v| !v.trustworthy)

@@ -56,7 +56,6 @@ use super::chi_square::{chi_square_quantile, chi_square_sf};
 use super::settings::{at_least, in_unit_interval, positive, SettingsError};
 use super::termination::StopReason;
 use super::uncertainty::IdentifiabilityWarning;
-use crate::simulation::Response;
 
 /// Thresholds of the verdict, validated when set.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -423,18 +422,25 @@ pub struct Evidence<'a> {
     pub iterations: usize,
     /// Its termination message.
     pub termination: String,
-    /// Sensor names.
-    pub sensors: &'a [String],
-    /// Measured signals.
-    pub measured: &'a Response,
-    /// Model response at the estimate, or why it could not be simulated.
-    pub fitted: Result<&'a Response, String>,
-    /// First sample used.
-    pub first: usize,
+    /// Every fitted sensor's measured and simulated signals at the
+    /// estimate (from the first sample used), or why the model could not be
+    /// simulated there.
+    pub signals: Result<Vec<FitSignal<'a>>, String>,
     /// The Cramér–Rao warnings, or why the analysis could not be done.
     pub identifiability: Result<&'a [IdentifiabilityWarning], String>,
     /// The warning threshold on |correlation| the warnings were made with.
     pub correlation_threshold: f64,
+}
+
+/// One sensor's signals, measured and simulated at the estimate.
+#[derive(Debug, Clone)]
+pub struct FitSignal<'a> {
+    /// The sensor's name (`sensor[experiment]` in a campaign).
+    pub sensor: String,
+    /// Measured, from the first sample used.
+    pub measured: &'a [f64],
+    /// Simulated at the estimate, the same samples.
+    pub fitted: &'a [f64],
 }
 
 /// Draws the verdict (see the module documentation).
@@ -472,8 +478,8 @@ pub fn assess(e: &Evidence<'_>, s: &VerdictSettings) -> Verdict {
             threshold: minima_threshold,
         });
     }
-    let sensors = match &e.fitted {
-        Ok(fitted) => check_sensors(e, fitted, s, &mut reasons),
+    let sensors = match &e.signals {
+        Ok(signals) => check_sensors(signals, s, &mut reasons),
         Err(message) => {
             reasons.push(Reason::SimulationFailed {
                 message: message.clone(),
@@ -561,16 +567,14 @@ pub fn cluster_minima(
 }
 
 fn check_sensors(
-    e: &Evidence<'_>,
-    fitted: &Response,
+    signals: &[FitSignal<'_>],
     s: &VerdictSettings,
     reasons: &mut Vec<Reason>,
 ) -> Vec<SensorCheck> {
-    let mut checks = Vec::with_capacity(e.sensors.len());
+    let mut checks = Vec::with_capacity(signals.len());
     let mut residual = Vec::new();
-    for (c, name) in e.sensors.iter().enumerate() {
-        let y = &e.measured.sensor(c)[e.first..];
-        let g = &fitted.sensor(c)[e.first..];
+    for sig in signals {
+        let (name, y, g) = (&sig.sensor, sig.measured, sig.fitted);
         residual.clear();
         residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
         let n = y.len().max(1) as f64;

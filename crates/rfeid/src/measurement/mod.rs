@@ -300,3 +300,23 @@ pub fn add_noise(response: &mut Response, fraction: f64, seed: u64) {
         }
     }
 }
+
+/// The normalised RMS fit of `fitted` to `measured`, %, as MATLAB's
+/// `compare`: `100 (1 − ‖y − ŷ‖ / ‖y − mean(y)‖)`; 100 is a perfect fit, 0
+/// no better than the mean. `None` for a constant measured signal.
+pub fn fit_percent(measured: &[f64], fitted: &[f64]) -> Option<f64> {
+    let n = measured.len().max(1) as f64;
+    let mean = measured.iter().sum::<f64>() / n;
+    let spread = measured
+        .iter()
+        .map(|v| (v - mean) * (v - mean))
+        .sum::<f64>()
+        .sqrt();
+    let misfit = measured
+        .iter()
+        .zip(fitted)
+        .map(|(y, g)| (y - g) * (y - g))
+        .sum::<f64>()
+        .sqrt();
+    (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread))
+}

@@ -186,6 +186,29 @@ fn summary(out: &mut String, input: &ReportInput) {
         ),
         ("fitted from", format!("t = {} s", sig(r.from, 4))),
         (
+            "experiments (fit per sensor, %)",
+            r.experiments
+                .iter()
+                .map(|e| {
+                    let fits: Vec<String> = e
+                        .sensors
+                        .iter()
+                        .zip(&e.fits)
+                        .map(|(s, f)| match f {
+                            Some(f) => format!("{s} {}", sig(*f, 4)),
+                            None => format!("{s} undefined"),
+                        })
+                        .collect();
+                    let role = match e.role {
+                        crate::model::Role::Fit => "fitted",
+                        crate::model::Role::Validation => "validation",
+                    };
+                    format!("{} ({role}): {}", e.name, fits.join(", "))
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        ),
+        (
             "fit per sensor (100 (1 − ‖y − ŷ‖/‖y − ȳ‖))",
             r.verdict.as_ref().map_or_else(String::new, |v| {
                 v.sensors

@@ -233,7 +233,7 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
             name,
             unit: input
                 .model
-                .sensor_index(name)
+                .sensor_index(name.split('[').next().unwrap_or(name))
                 .map(|i| signals::sensor_unit(input.model.sensors[i].kind))
                 .unwrap_or_default(),
             measured: input.measured.sensor(c),

@@ -110,6 +110,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         source: Default::default(),
         verdict: None,
         simulation: None,
+        experiments: Vec::new(),
     }
 }
 
