@@ -2,12 +2,15 @@
 //! static equilibrium and modal analysis.
 pub mod aliasing;
 mod calibration;
+mod columns;
 mod dim;
 pub mod equilibrium;
 mod madd;
 pub mod modal;
 pub mod run;
 mod sines;
+mod sparse;
+mod sparse_tangent;
 mod stepper;
 pub mod steps;
 pub mod structure;
@@ -17,7 +20,7 @@ mod tangent;
 #[cfg(test)]
 mod test_models;
 
-pub use run::{Integrator, Response, Sensitivities, Simulator, Workspace};
+pub use run::{Integrator, Kernel, Response, Sensitivities, Simulator, Workspace};
 pub use steps::StepChoice;
 
 /// The default integration method.

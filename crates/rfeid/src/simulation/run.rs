@@ -22,9 +22,11 @@
 //! for the model's fastest mode (ωh beyond DOP853's stability limit, about 3
 //! for damped modes) ends in [`SimulationError::Diverged`], which names that
 //! mode, never a hang.
+use super::columns::COLUMN_GROUP;
 use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
 use super::madd::{Fused, Madd, Separate};
+use super::sparse::prefer_sparse;
 use super::stepper::Stepper;
 pub use super::stepper::Workspace;
 use super::steps::{choose_steps, estimate_error, fastest_mode_hz, StepChoice};
@@ -86,10 +88,26 @@ pub struct Integrator {
     pub locate_crossings: bool,
 }
 
+/// Which kernel evaluates the equations of motion and their sensitivities.
+/// Both give the same results to rounding.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Kernel {
+    /// The one with fewer operations for the model's size (the default):
+    /// dense for a few bodies, element by element for many.
+    #[default]
+    Auto,
+    /// Dense matrices in register panels (`system`), fastest for a few bodies.
+    Dense,
+    /// Element by element (`sparse`): cost grows with the number of
+    /// components, not with n².
+    Sparse,
+}
+
 /// Simulates one model at any parameter point.
 #[derive(Debug, Clone)]
 pub struct Simulator<'m> {
     model: &'m Model,
+    kernel: Kernel,
     structure: Structure,
     integrator: Integrator,
     steps: StepChoice,
@@ -158,6 +176,7 @@ impl<'m> Simulator<'m> {
         breakpoints.dedup();
         Simulator {
             model,
+            kernel: Kernel::Auto,
             structure: Structure::new(model),
             breakpoints,
             integrator,
@@ -169,6 +188,16 @@ impl<'m> Simulator<'m> {
                 runs: 0,
             },
         }
+    }
+
+    /// Uses `kernel` from now on (see [`Kernel`]).
+    pub fn set_kernel(&mut self, kernel: Kernel) {
+        self.kernel = kernel;
+    }
+
+    /// The kernel setting.
+    pub fn kernel(&self) -> Kernel {
+        self.kernel
     }
 
     /// How the steps per sample were chosen, and their estimated error.
@@ -234,7 +263,14 @@ impl<'m> Simulator<'m> {
         // of another shape (`integrate` resizes it).
         let rows = self.model.sensors.len() * self.model.sampling.n_samples();
         sens.values.resize(rows * wrt.len(), 0.0);
-        self.integrate(params, wrt, ws, out, Some(&mut sens.values))?;
+        if wrt.len() > COLUMN_GROUP {
+            let mut groups = std::mem::take(&mut ws.groups);
+            let result = self.integrate_groups(params, wrt, &mut groups, out, &mut sens.values);
+            ws.groups = groups;
+            result?;
+        } else {
+            self.integrate(params, wrt, ws, out, Some(&mut sens.values))?;
+        }
         super::calibration::apply(self.model, params, wrt, out, Some(&mut sens.values));
         Ok(())
     }
@@ -261,6 +297,19 @@ impl<'m> Simulator<'m> {
         let mut out = Response::zeros(n, self.model.sampling.n_samples());
         probe.integrate(params, &[], ws, &mut out, None)?;
         Ok(out)
+    }
+
+    /// The response and the sensitivities to `wrt` in one run, into `values`
+    /// (sized for them).
+    pub(crate) fn integrate_columns(
+        &self,
+        params: &[f64],
+        wrt: &[usize],
+        ws: &mut Workspace,
+        out: &mut Response,
+        values: &mut Vec<f64>,
+    ) -> Result<(), SimulationError> {
+        self.integrate(params, wrt, ws, out, Some(values))
     }
 
     /// A response buffer of the right shape.
@@ -320,9 +369,19 @@ impl<'m> Simulator<'m> {
         out: &mut Response,
         mut sens: Option<&mut Vec<f64>>,
     ) -> Result<(), SimulationError> {
-        let sys = self.system(params)?;
+        let mut sys = self.system(params)?;
         let n = sys.n;
         let r = wrt.len();
+        let width = if sens.is_some() {
+            r.next_multiple_of(4)
+        } else {
+            0
+        };
+        sys.set_sparse(match self.kernel {
+            Kernel::Auto => prefer_sparse(n, sys.comps.len(), sys.power.len(), width),
+            Kernel::Dense => false,
+            Kernel::Sparse => true,
+        });
         let tab = &self.integrator.tableau;
         let sampling = self.model.sampling;
         let n_samples = sampling.n_samples();

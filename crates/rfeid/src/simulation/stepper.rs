@@ -54,6 +54,8 @@ pub struct Workspace {
     phases: Vec<(f64, f64)>,
     phases_time: f64,
     crossings: Vec<f64>,
+    /// The buffers of the parameter groups run in parallel (`columns`).
+    pub(crate) groups: Vec<super::columns::GroupBuffers>,
 }
 
 impl Workspace {

@@ -8,6 +8,7 @@
 //! allocates nothing; the sensitivities' right-hand side is in `tangent`.
 use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
+use super::sparse::{prefer_sparse, sparse_accel, sparse_components, BlockVec, SparseComp};
 use super::structure::{Row, Structure};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
@@ -75,6 +76,14 @@ pub struct System<'a> {
     power_b: Vec<f64>,
     /// `(a, m)` per power-law slot: the rows, padded to whole panels with `(0, 2)`.
     power_am: Vec<(f64, f64)>,
+    /// Whether [`Self::accel`] (and the sensitivities) run element by
+    /// element (`sparse`) rather than on the dense panels above, which are
+    /// then left empty.
+    pub(crate) sparse: bool,
+    /// Every component with its coefficients, for the sparse kernel.
+    pub(crate) comps: Vec<SparseComp>,
+    /// `M⁻¹ L_e` per excitation by nonzero 6-blocks, for the sparse kernel.
+    pub(crate) minv_load_blocks: Vec<BlockVec>,
 }
 
 impl<'a> System<'a> {
@@ -160,10 +169,56 @@ impl<'a> System<'a> {
             .iter()
             .map(|l| l.iter().zip(&minv).map(|(x, m)| x * m).collect())
             .collect();
-        let slots = 4 * power.len().div_ceil(4);
+        let comps = sparse_components(structure, &minv, |i| {
+            let comp = &structure.components[i];
+            let (k, a, m) = match comp.law {
+                Law::None => (0.0, 0.0, 2.0),
+                Law::Linear { k } => (k.eval(params), 0.0, 2.0),
+                Law::Power { a, m } => (0.0, a.eval(params), m.eval(params)),
+            };
+            (k, comp.damping.eval(params), a, m)
+        });
+        let minv_load_blocks = minv_loads.iter().map(|l| BlockVec::from_dense(l)).collect();
+        let sparse = prefer_sparse(n, comps.len(), power.len(), 0);
+        let mut sys = System {
+            power_b: Vec::new(),
+            power_am: Vec::new(),
+            a_ext: Vec::new(),
+            ext_cols: 0,
+            gravity_panels: Vec::new(),
+            sparse: true,
+            comps,
+            minv_load_blocks,
+            structure,
+            model,
+            params: params.to_vec(),
+            n,
+            minv,
+            a_lin,
+            power,
+            minv_loads,
+            minv_gravity,
+        };
+        sys.set_sparse(sparse);
+        Ok(sys)
+    }
+
+    /// Chooses the kernel: element by element (`sparse`) or dense panels,
+    /// building the dense panels if they are wanted and not yet built.
+    pub(crate) fn set_sparse(&mut self, sparse: bool) {
+        self.sparse = sparse;
+        if !sparse && self.ext_cols == 0 {
+            self.build_dense();
+        }
+    }
+
+    /// The dense panels of the accelerations (see the fields).
+    fn build_dense(&mut self) {
+        let (n, minv, a_lin) = (self.n, &self.minv, &self.a_lin);
+        let slots = 4 * self.power.len().div_ceil(4);
         let mut power_b = vec![0.0; slots * n];
         let mut power_am = vec![(0.0, 2.0); slots];
-        for (k, pr) in power.iter().enumerate() {
+        for (k, pr) in self.power.iter().enumerate() {
             let dense = pr.row.dense(n);
             for (j, v) in dense.iter().enumerate() {
                 power_b[((k / 4) * n + j) * 4 + k % 4] = *v;
@@ -171,7 +226,7 @@ impl<'a> System<'a> {
             power_am[k] = (pr.a, pr.m);
         }
         // Column j of the extended matrix, row i.
-        let ext_cols = 2 * n + slots + minv_loads.len();
+        let ext_cols = 2 * n + slots + self.minv_loads.len();
         let column = |i: usize, j: usize| -> f64 {
             if j < 2 * n {
                 a_lin[i * 2 * n + j]
@@ -180,7 +235,7 @@ impl<'a> System<'a> {
                 let k = j - 2 * n;
                 -power_b[((k / 4) * n + i) * 4 + k % 4] * minv[i]
             } else {
-                minv_loads[j - 2 * n - slots][i]
+                self.minv_loads[j - 2 * n - slots][i]
             }
         };
         let panels = n.div_ceil(4);
@@ -190,24 +245,10 @@ impl<'a> System<'a> {
             for j in 0..ext_cols {
                 a_ext[((i / 4) * ext_cols + j) * 4 + i % 4] = column(i, j);
             }
-            gravity_panels[i / 4][i % 4] = minv_gravity[i];
+            gravity_panels[i / 4][i % 4] = self.minv_gravity[i];
         }
-        Ok(System {
-            power_b,
-            power_am,
-            structure,
-            model,
-            params: params.to_vec(),
-            n,
-            minv,
-            a_lin,
-            a_ext,
-            ext_cols,
-            gravity_panels,
-            power,
-            minv_loads,
-            minv_gravity,
-        })
+        (self.power_b, self.power_am, self.a_ext) = (power_b, power_am, a_ext);
+        (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
     }
 
     /// The excitation signals.
@@ -256,6 +297,10 @@ impl<'a> System<'a> {
     ) {
         let n = D::n(self.n);
         let (y, acc) = (&y[..2 * n], &mut acc[..n]);
+        if self.sparse {
+            let (g, loads) = (&self.minv_gravity, &self.minv_load_blocks);
+            return sparse_accel::<M>(&self.comps, g, loads, forces, y, acc);
+        }
         let slots = self.power_am.len();
         let fp = &mut scratch[..slots];
         // The power-law forces four at a time: δ = B q for the panel, then

@@ -17,6 +17,7 @@
 //! columns start at zero and stay zero.
 use super::dim::Dim;
 use super::madd::Madd;
+use super::sparse_tangent::sparse_tangent;
 use super::structure::Usage;
 use super::system::{power_law, System};
 use crate::model::Law;
@@ -45,6 +46,12 @@ pub(crate) struct Tangent {
     active: Vec<Active>,
     /// Mass, inertia and amplitude parameters: (column, usage).
     others: Vec<(usize, Usage)>,
+    /// Whether the system runs element by element ([`System::sparse`]);
+    /// then `active` is empty and `component_usages` is used instead.
+    sparse: bool,
+    /// For each component row, the identified parameters acting there:
+    /// (column, usage). Empty unless `sparse`.
+    component_usages: Vec<Vec<(usize, Usage)>>,
 }
 
 impl Tangent {
@@ -58,6 +65,8 @@ impl Tangent {
                 width: 0,
                 active: Vec::new(),
                 others: Vec::new(),
+                sparse: sys.sparse,
+                component_usages: Vec::new(),
             };
         }
         // Usages per component first, so that the active components come in
@@ -77,6 +86,16 @@ impl Tangent {
                     }
                 }
             }
+        }
+        let width = wrt.len().next_multiple_of(4);
+        if sys.sparse {
+            return Tangent {
+                width,
+                active: Vec::new(),
+                others,
+                sparse: true,
+                component_usages: usages,
+            };
         }
         let active = structure
             .components
@@ -98,16 +117,21 @@ impl Tangent {
             })
             .collect();
         Tangent {
-            width: wrt.len().next_multiple_of(4),
+            width,
             active,
             others,
+            sparse: false,
+            component_usages: Vec::new(),
         }
     }
 
     /// Scratch length that [`Self::apply`] needs for n coordinates: J
     /// (n × 2n) and Eᵀ (width × n).
     pub fn scratch_len(&self, n: usize) -> usize {
-        2 * n * n + self.width * n
+        match self.sparse {
+            true => 0,
+            false => 2 * n * n + self.width * n,
+        }
     }
 
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
@@ -130,6 +154,11 @@ impl Tangent {
         let (q, v) = y[..2 * n].split_at(n);
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
+        if self.sparse {
+            sparse_tangent::<M>(sys, &self.component_usages, (q, v), sy, width, dacc);
+            self.add_others(sys, (t, before), acc, dacc);
+            return;
+        }
         let (jac, et) = scratch.split_at_mut(2 * n * n);
         let et = &mut et[..width * n];
 
@@ -149,19 +178,7 @@ impl Tangent {
                 }
             }
             for &(col, usage) in &comp.usages {
-                let f = match usage {
-                    Usage::Stiffness(_) => d,
-                    Usage::Damping(_) => dot::<M>(b, v),
-                    Usage::PowerCoefficient(_) => {
-                        let (_, m) = comp.power.unwrap_or((0.0, 1.0));
-                        power_law(1.0, m, d).0
-                    }
-                    Usage::PowerExponent(_) => {
-                        let (a, m) = comp.power.unwrap_or((0.0, 1.0));
-                        exponent_derivative(a, m, d)
-                    }
-                    Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => 0.0,
-                };
+                let f = force_derivative(usage, comp.power, d, || dot::<M>(b, v));
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
         }
@@ -174,7 +191,19 @@ impl Tangent {
         {
             times_columns::<M>(row, sy, (et, n, k), width, out);
         }
+        self.add_others(sys, (t, before), acc, dacc);
+    }
 
+    /// Adds the mass, inertia and load terms of E to `dacc`.
+    #[inline(always)]
+    fn add_others(
+        &self,
+        sys: &System<'_>,
+        (t, before): (f64, bool),
+        acc: &[f64],
+        dacc: &mut [f64],
+    ) {
+        let width = self.width;
         for &(col, usage) in &self.others {
             let cell = |k: usize| k * width + col;
             match usage {
@@ -201,6 +230,32 @@ impl Tangent {
                 _ => {}
             }
         }
+    }
+}
+
+/// `∂f_i/∂x` of a component's force `f_i = k δ + a sign(δ)|δ|^m + c δ̇`
+/// (eq. 2–7) for the parameter x used as `usage`, at deformation `d`;
+/// `rate` gives δ̇ (computed only for a damping). `power` is `(a, m)` of a
+/// power-law spring.
+#[inline(always)]
+pub(super) fn force_derivative(
+    usage: Usage,
+    power: Option<(f64, f64)>,
+    d: f64,
+    rate: impl FnOnce() -> f64,
+) -> f64 {
+    match usage {
+        Usage::Stiffness(_) => d,
+        Usage::Damping(_) => rate(),
+        Usage::PowerCoefficient(_) => {
+            let (_, m) = power.unwrap_or((0.0, 1.0));
+            power_law(1.0, m, d).0
+        }
+        Usage::PowerExponent(_) => {
+            let (a, m) = power.unwrap_or((0.0, 1.0));
+            exponent_derivative(a, m, d)
+        }
+        Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => 0.0,
     }
 }
 

@@ -1,0 +1,63 @@
+//! Many sensitivity columns in parallel (issue 12).
+//!
+//! The columns of the sensitivity equation (eq. 27–28) are independent of
+//! one another given the state: each goes through the same operations
+//! whichever columns share its run (`tangent`, `sparse_tangent`). So the
+//! parameters are split into fixed groups of [`COLUMN_GROUP`], in order,
+//! and each group is integrated with its own copy of the state on the
+//! current rayon pool. The groups do not depend on the number of threads,
+//! so neither do the results, bit for bit; each group costs one extra
+//! integration of the state, a small part of its 16 columns.
+use super::run::{Response, Simulator};
+use super::stepper::Workspace;
+use super::SimulationError;
+use rayon::prelude::*;
+
+/// Parameters per group: up to this many are integrated in one run.
+pub const COLUMN_GROUP: usize = 16;
+
+/// The buffers of one group, kept in the caller's [`Workspace`].
+#[derive(Debug, Clone, Default)]
+pub struct GroupBuffers {
+    ws: Workspace,
+    out: Option<Response>,
+    sens: Vec<f64>,
+}
+
+impl Simulator<'_> {
+    /// The response at `params` into `out` and the sensitivities to `wrt`
+    /// (more than [`COLUMN_GROUP`] parameters) into `values` (observation ×
+    /// parameter, row-major, already sized), group by group in parallel.
+    pub(crate) fn integrate_groups(
+        &self,
+        params: &[f64],
+        wrt: &[usize],
+        groups: &mut Vec<GroupBuffers>,
+        out: &mut Response,
+        values: &mut [f64],
+    ) -> Result<(), SimulationError> {
+        let rows = self.model().sensors.len() * self.model().sampling.n_samples();
+        let count = wrt.len().div_ceil(COLUMN_GROUP);
+        groups.resize_with(count, GroupBuffers::default);
+        groups
+            .par_iter_mut()
+            .zip(wrt.par_chunks(COLUMN_GROUP))
+            .try_for_each(|(g, cols)| {
+                let out = g.out.get_or_insert_with(|| self.response_buffer());
+                g.sens.clear();
+                g.sens.resize(rows * cols.len(), 0.0);
+                self.integrate_columns(params, cols, &mut g.ws, out, &mut g.sens)
+            })?;
+        let r = wrt.len();
+        for (i, g) in groups.iter().enumerate() {
+            let (c0, w) = (i * COLUMN_GROUP, g.sens.len() / rows.max(1));
+            for (dst, src) in values.chunks_exact_mut(r).zip(g.sens.chunks_exact(w)) {
+                dst[c0..c0 + w].copy_from_slice(src);
+            }
+        }
+        if let Some(first) = groups.first().and_then(|g| g.out.as_ref()) {
+            out.clone_from(first);
+        }
+        Ok(())
+    }
+}
