@@ -338,6 +338,7 @@ pub fn search_settings(a: &SearchArgs, ui: &Ui) -> Result<(Settings, Bars), Fail
             WeightsArg::Estimated => Weighting::EstimatedNoise,
         },
         window: Some(window).filter(|w| *w > 0.0),
+        restarts: rfeid::identification::pipeline::DEFAULT_RESTARTS,
         ..Settings::default()
     };
     let target = if ui.quiet {

@@ -12,7 +12,7 @@ use super::result::{
 };
 use super::termination::{SolveError, StopReason};
 use super::uncertainty::{cramer_rao_mapped, IdentifiabilityWarning, UncertaintySettings};
-use super::verdict::{assess, Evidence, FitSignal, StartEnd, VerdictSettings};
+use super::verdict::{assess, fit_fails, Evidence, FitSignal, StartEnd, VerdictSettings};
 use crate::simulation::steps::{choose_steps, estimate_error};
 use crate::simulation::{SimulationError, StepChoice};
 use nalgebra::DMatrix;
@@ -78,7 +78,22 @@ pub struct Settings {
     pub window: Option<f64>,
     /// Where the local search starts.
     pub start: Start,
+    /// Automatic restarts: when no local search from the plan ends where
+    /// the fit passes the verdict's per-sensor checks (fit, whiteness,
+    /// noise level), up to this many further searches start from the
+    /// next-best plan points that are distinct from every start and end so
+    /// far, until one passes ([`restart_from_side_minima`]). 0: none.
+    /// `rfeid identify` uses [`DEFAULT_RESTARTS`].
+    pub restarts: usize,
 }
+
+/// The automatic restarts of `rfeid identify` ([`Settings::restarts`]).
+pub const DEFAULT_RESTARTS: usize = 8;
+
+/// Plan points closer than this (RMS over the normalised coordinates) to a
+/// start or an end already searched are not restarted from: they would most
+/// likely end in the same minimum.
+const DISTINCT: f64 = 0.1;
 
 /// What a caller may watch (progress bars, logs). Every method has a no-op default.
 pub trait Progress: Sync {
@@ -241,6 +256,117 @@ fn start_search(
         s.failed += pre.failed;
     }
     Ok(s)
+}
+
+/// What the automatic restarts did.
+#[derive(Debug, Default)]
+struct Restarts {
+    /// Simulations spent on the fit checks (one per experiment and check).
+    checks: usize,
+    /// When a restart found an end that passes the fit checks: whether
+    /// each search (in order) passes, so that the side minima are left out.
+    passed: Option<Vec<bool>>,
+    /// What happened, in words, when any restart ran.
+    warning: Option<String>,
+}
+
+/// The automatic restarts ([`Settings::restarts`]): if no search in
+/// `searches` ends where the fit passes the verdict's per-sensor checks,
+/// further searches start from the best remaining plan points (by J) that
+/// lie at least [`DISTINCT`] from every start and end so far, one at a
+/// time, until one passes or `settings.restarts` have run. Their searches
+/// and failures are appended. Deterministic: the candidates follow the
+/// plan's ranking.
+#[allow(clippy::too_many_arguments)]
+fn restart_from_side_minima(
+    problem: &OutputError<'_>,
+    settings: &Settings,
+    plan: &Plan,
+    outcomes: &[PointOutcome],
+    used: &[usize],
+    searches: &mut Vec<Search>,
+    failures: &mut Vec<StartFailure>,
+    progress: &dyn Progress,
+) -> Restarts {
+    let mut out = Restarts::default();
+    if settings.restarts == 0 {
+        return out;
+    }
+    let mut passes = |u: &[f64]| {
+        out.checks += problem.n_experiments();
+        problem
+            .simulate_all(u)
+            .is_ok_and(|g| !fit_fails(&fit_signals(problem, Some(&g)), &settings.verdict))
+    };
+    let mut passed: Vec<bool> = searches.iter().map(|s| passes(&s.u)).collect();
+    if passed.iter().any(|&p| p) || searches.is_empty() {
+        return out;
+    }
+    let first_cost = searches
+        .iter()
+        .map(|s| s.cost)
+        .fold(f64::INFINITY, f64::min);
+    let distance = |a: &[f64], b: &[f64]| {
+        (a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>() / a.len() as f64).sqrt()
+    };
+    let mut visited: Vec<Vec<f64>> = used.iter().map(|&i| plan.point(i).to_vec()).collect();
+    visited.extend(searches.iter().map(|s| s.u.clone()));
+    let mut tried = 0;
+    for idx in rank(outcomes) {
+        let Ok(cost) = outcomes[idx] else { break };
+        if tried == settings.restarts {
+            break;
+        }
+        let p = plan.point(idx);
+        if used.contains(&idx) || visited.iter().any(|v| distance(v, p) < DISTINCT) {
+            continue;
+        }
+        tried += 1;
+        visited.push(p.to_vec());
+        progress.search_started(used.len() + tried - 1, used.len() + settings.restarts, cost);
+        match start_search(problem, settings, p, progress) {
+            Ok(s) => {
+                visited.push(s.u.clone());
+                let ok = passes(&s.u);
+                searches.push(s);
+                passed.push(ok);
+                if ok {
+                    break;
+                }
+            }
+            Err(e) => failures.push(StartFailure {
+                plan_index: idx,
+                reason: match e {
+                    IdentifyError::Solve(m) => m,
+                    e => e.to_string(),
+                },
+            }),
+        }
+    }
+    let found = passed.iter().any(|&p| p);
+    out.warning = Some(match found {
+        true => {
+            let best = searches
+                .iter()
+                .zip(&passed)
+                .filter(|(_, p)| **p)
+                .map(|(s, _)| s.cost)
+                .fold(f64::INFINITY, f64::min);
+            format!(
+                "the local search from the plan ended at J = {first_cost:.6e}, where the fit \
+                 fails the verdict's per-sensor checks (a side minimum); {tried} automatic \
+                 restart(s) from the next-best distinct plan points found J = {best:.6e}, where \
+                 it passes; the side minima are left out of the result"
+            )
+        }
+        false => format!(
+            "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \
+             the verdict's per-sensor checks, and {tried} automatic restart(s) from the \
+             next-best distinct plan points found no minimum where it passes"
+        ),
+    });
+    out.passed = found.then_some(passed);
+    out
 }
 
 fn local_search(
@@ -431,14 +557,34 @@ pub fn finish(
             (vec![search], Vec::new())
         }
     };
+    let (mut searches, mut start_failures) = (searches, start_failures);
+    let used: Vec<usize> = starts.iter().map(|&(idx, _)| idx).collect();
+    let restarted = match settings.start {
+        Start::Plan => restart_from_side_minima(
+            &problem,
+            settings,
+            plan,
+            &outcomes,
+            &used,
+            &mut searches,
+            &mut start_failures,
+            progress,
+        ),
+        Start::Values => Restarts::default(),
+    };
+    sims += restarted.checks;
     // A failed start cost one simulation with sensitivities, which failed.
     sims_sens += start_failures.len();
     failed += start_failures.len();
     let mut best: Option<Search> = None;
-    for s in searches {
+    for (k, s) in searches.into_iter().enumerate() {
         sims += s.residual_evals;
         sims_sens += s.jacobian_evals;
         failed += s.failed;
+        if restarted.passed.as_ref().is_some_and(|p| !p[k]) {
+            // A side minimum, left behind (and described in a warning).
+            continue;
+        }
         ends.push(StartEnd {
             cost: s.cost,
             parameters: problem.to_physical(&s.u),
@@ -587,6 +733,7 @@ pub fn finish(
         .as_ref()
         .map(|c| c.warnings.iter().map(|w| describe(w, &names)).collect())
         .unwrap_or_default();
+    warnings.extend(restarted.warning);
     warnings.extend(step_warnings);
     let fitted = problem.simulate_all(&best.u);
     let ssr = match &fitted {

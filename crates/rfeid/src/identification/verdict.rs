@@ -575,60 +575,85 @@ fn check_sensors(
     let mut residual = Vec::new();
     for sig in signals {
         let (name, y, g) = (&sig.sensor, sig.measured, sig.fitted);
-        residual.clear();
-        residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
-        let n = y.len().max(1) as f64;
-        let mean = y.iter().sum::<f64>() / n;
-        let spread = y
-            .iter()
-            .map(|v| (v - mean) * (v - mean))
-            .sum::<f64>()
-            .sqrt();
-        let misfit = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let fit_percent = (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread));
-        if fit_percent.is_none_or(|f| f < s.min_fit_percent) {
-            reasons.push(Reason::PoorFit {
-                sensor: name.clone(),
-                fit_percent,
-                threshold: s.min_fit_percent,
-            });
-        }
-        let mut check = SensorCheck {
-            sensor: name.clone(),
-            fit_percent,
-            ljung_box: None,
-            p_value: None,
-            noise_ratio: None,
-        };
-        let exact = misfit <= s.exact_fit * spread;
-        if !exact {
-            if let Some(q) = ljung_box(&residual, s.lags) {
-                let p = chi_square_sf(q, s.lags);
-                (check.ljung_box, check.p_value) = (Some(q), Some(p));
-                if p < s.whiteness_level {
-                    reasons.push(Reason::NotWhite {
-                        sensor: name.clone(),
-                        statistic: q,
-                        p_value: p,
-                        lags: s.lags,
-                        level: s.whiteness_level,
-                    });
-                }
-            }
-            if let Some(ratio) = noise_ratio(&residual) {
-                check.noise_ratio = Some(ratio);
-                if ratio > s.max_noise_ratio {
-                    reasons.push(Reason::NoiseMismatch {
-                        sensor: name.clone(),
-                        ratio,
-                        threshold: s.max_noise_ratio,
-                    });
-                }
-            }
-        }
-        checks.push(check);
+        checks.push(check_sensor(name, y, g, s, &mut residual, reasons));
     }
     checks
+}
+
+/// Whether the fit fails any per-sensor check of the verdict (poor fit,
+/// residuals not white, residual variance beyond the noise level): a sign
+/// of a side minimum, or of model error.
+pub(crate) fn fit_fails(signals: &[FitSignal<'_>], s: &VerdictSettings) -> bool {
+    let (mut residual, mut reasons) = (Vec::new(), Vec::new());
+    signals.iter().any(|sig| {
+        check_sensor("", sig.measured, sig.fitted, s, &mut residual, &mut reasons);
+        !reasons.is_empty()
+    })
+}
+
+/// The fit, whiteness and noise-level checks of one sensor's measured `y`
+/// and fitted `g`; `residual` is scratch.
+fn check_sensor(
+    name: &str,
+    y: &[f64],
+    g: &[f64],
+    s: &VerdictSettings,
+    residual: &mut Vec<f64>,
+    reasons: &mut Vec<Reason>,
+) -> SensorCheck {
+    let name = name.to_string();
+    residual.clear();
+    residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
+    let n = y.len().max(1) as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let spread = y
+        .iter()
+        .map(|v| (v - mean) * (v - mean))
+        .sum::<f64>()
+        .sqrt();
+    let misfit = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let fit_percent = (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread));
+    if fit_percent.is_none_or(|f| f < s.min_fit_percent) {
+        reasons.push(Reason::PoorFit {
+            sensor: name.clone(),
+            fit_percent,
+            threshold: s.min_fit_percent,
+        });
+    }
+    let mut check = SensorCheck {
+        sensor: name.clone(),
+        fit_percent,
+        ljung_box: None,
+        p_value: None,
+        noise_ratio: None,
+    };
+    let exact = misfit <= s.exact_fit * spread;
+    if !exact {
+        if let Some(q) = ljung_box(residual, s.lags) {
+            let p = chi_square_sf(q, s.lags);
+            (check.ljung_box, check.p_value) = (Some(q), Some(p));
+            if p < s.whiteness_level {
+                reasons.push(Reason::NotWhite {
+                    sensor: name.clone(),
+                    statistic: q,
+                    p_value: p,
+                    lags: s.lags,
+                    level: s.whiteness_level,
+                });
+            }
+        }
+        if let Some(ratio) = noise_ratio(residual) {
+            check.noise_ratio = Some(ratio);
+            if ratio > s.max_noise_ratio {
+                reasons.push(Reason::NoiseMismatch {
+                    sensor: name,
+                    ratio,
+                    threshold: s.max_noise_ratio,
+                });
+            }
+        }
+    }
+    check
 }
 
 /// The Ljung–Box statistic `Q = n (n + 2) Σ_{k=1}^{h} ρ_k² / (n − k)` of
