@@ -141,9 +141,9 @@ pub struct SearchArgs {
     /// Local search: Levenberg–Marquardt with exact sensitivities, or the paper's BFGS.
     #[arg(long, value_enum, default_value_t = MethodArg::Lm)]
     pub method: MethodArg,
-    /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance.
-    #[arg(long, value_enum, default_value_t = WeightsArg::Equal)]
-    pub weights: WeightsArg,
+    /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance. Default estimated for `identify` (valid standard errors when the sensors' noise levels differ), equal for `demo`.
+    #[arg(long, value_enum)]
+    pub weights: Option<WeightsArg>,
     /// Worker threads (default: all cores; at most 1024). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,

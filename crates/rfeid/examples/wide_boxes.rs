@@ -3,13 +3,15 @@
 //! in standard errors, the verdict and the wall time of the identification.
 //!
 //! ```sh
-//! cargo run --release -p rfeid --example wide_boxes -- [--seeds 5] [--noise 0.01] [--factors 10,100] [MODEL...]
+//! cargo run --release -p rfeid --example wide_boxes -- [--seeds 5] [--noise 0.01] [--factors 10,100] [--equal-weights] [--from-truth] [MODEL...]
 //! ```
 //!
 //! MODEL names a directory under `examples/` (default: all of
 //! `knee-column`, `lathe`, `tailstock`). The cases are those of
 //! `tests/wide_cases` (the truth at a seeded random log position 15–85 %
-//! of each box), identified at `rfeid identify`'s default settings.
+//! of each box), identified at `rfeid identify`'s default settings;
+//! `--equal-weights` weights the sensors equally instead, `--from-truth`
+//! runs one local search from the true values instead of the plan.
 #[path = "../tests/wide_cases/mod.rs"]
 mod wide_cases;
 
@@ -22,14 +24,14 @@ fn main() {
     let mut factors = vec![10.0, 100.0];
     let mut models: Vec<String> = Vec::new();
     let mut from_truth = false;
-    let mut estimated = false;
+    let mut equal = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().expect("a value after the option");
         match a.as_str() {
             "--seeds" => seeds = value().parse().expect("a count"),
             "--from-truth" => from_truth = true,
-            "--estimated-weights" => estimated = true,
+            "--equal-weights" => equal = true,
             "--noise" => noise = value().parse().expect("a fraction"),
             "--factors" => {
                 factors = value()
@@ -44,10 +46,9 @@ fn main() {
         models = MODELS.iter().map(|m| m.to_string()).collect();
     }
     let mut settings = default_settings();
-    if estimated {
-        // `--weights estimated`: each sensor weighted by 1/σ_c² from its
-        // residuals.
-        settings.weighting = rfeid::identification::pipeline::Weighting::EstimatedNoise;
+    if equal {
+        // `--weights equal`, the paper's (eq. 14).
+        settings.weighting = rfeid::identification::pipeline::Weighting::Equal;
     }
     if from_truth {
         // One local search from the true values (the models' `value`s): the

@@ -4,8 +4,8 @@
 //! random log position 15–85 % of it, 1 % noise). Each case must end
 //! trustworthy with every estimate within 3 standard errors of the truth.
 //! Measured: knee–column (2 bodies, m = 2, sine), one decade, seed 1:
-//! worst 1.64 (h_n1); tailstock (4 bodies, m = 1.5 and 2, multisine and a
-//! measured force), two decades, seed 3: worst 1.40 (h_n4).
+//! worst 1.95 (h_t2); tailstock (4 bodies, m = 1.5 and 2, multisine and a
+//! measured force), two decades, seed 3: worst 1.23 (a_n3).
 mod wide_cases;
 
 use wide_cases::{data, default_settings, example, run, widened, worst_z};

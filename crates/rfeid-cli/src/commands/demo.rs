@@ -43,6 +43,10 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&args.search)?;
     // The benchmark's boxes are narrow: no short-window start unless asked.
     args.search.window.get_or_insert(0.0);
+    // The paper's equal weights (eq. 14) unless asked.
+    args.search
+        .weights
+        .get_or_insert(crate::cli::WeightsArg::Equal);
     let mut plan = Plan::new();
     if let Some(path) = &args.output {
         plan.file("-o", path);

@@ -66,7 +66,11 @@ impl SearchSpec {
             plan: a.plan,
             starts: a.starts,
             method: name(a.method.to_possible_value()),
-            weights: name(a.weights.to_possible_value()),
+            weights: name(
+                a.weights
+                    .unwrap_or(super::identify::DEFAULT_WEIGHTS)
+                    .to_possible_value(),
+            ),
             from: a.from,
             tolerance: a.steps.tolerance,
             substeps: a.steps.substeps,
@@ -80,7 +84,7 @@ impl SearchSpec {
             plan: self.plan,
             starts: self.starts,
             method: MethodArg::from_str(&self.method, false)?,
-            weights: WeightsArg::from_str(&self.weights, false)?,
+            weights: Some(WeightsArg::from_str(&self.weights, false)?),
             threads,
             from: self.from,
             timings,

@@ -9,7 +9,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rfeid::identification::output_error::OutputError;
-use rfeid::identification::pipeline::{identify, Settings, Silent, DEFAULT_RESTARTS};
+use rfeid::identification::pipeline::{identify, Settings, Silent, Weighting, DEFAULT_RESTARTS};
 use rfeid::identification::result::IdentificationResult;
 use rfeid::io::model_file::load_model;
 use rfeid::measurement::add_noise;
@@ -55,13 +55,15 @@ pub fn data(model: &Model, noise: f64, seed: u64) -> Response {
 }
 
 /// The command line's defaults (`rfeid identify` without options):
-/// a 100-point plan, one start, `--window 0.15`, the automatic restarts.
+/// a 100-point plan, one start, `--window 0.15`, the automatic restarts,
+/// sensor weights estimated from the residuals (`--weights estimated`).
 pub fn default_settings() -> Settings {
     Settings {
         plan_points: 100,
         starts: 1,
         window: Some(0.15),
         restarts: DEFAULT_RESTARTS,
+        weighting: Weighting::EstimatedNoise,
         ..Settings::default()
     }
 }
