@@ -11,12 +11,15 @@
 //! `tests/wide_cases` (the truth at a seeded random log position 15–85 %
 //! of each box), identified at `rfeid identify`'s default settings;
 //! `--equal-weights` weights the sensors equally instead, `--from-truth`
-//! runs one local search from the true values instead of the plan.
+//! runs one local search from the true values instead of the plan,
+//! `--write DIR` also writes each case as DIR/MODEL-fFACTOR-sSEED/ with
+//! `model.toml` (the boxes in SI) and `data.csv`, for
+//! `rfeid identify DIR/…/model.toml --data DIR/…/data.csv -o r.json --timings`.
 #[path = "../tests/wide_cases/mod.rs"]
 mod wide_cases;
 
 use std::time::Instant;
-use wide_cases::{data, default_settings, example, run, widened, worst_z, MODELS};
+use wide_cases::{data, default_settings, example, run, widened, widened_text, worst_z, MODELS};
 
 fn main() {
     let mut seeds = 5u64;
@@ -25,6 +28,7 @@ fn main() {
     let mut models: Vec<String> = Vec::new();
     let mut from_truth = false;
     let mut equal = false;
+    let mut write: Option<std::path::PathBuf> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut value = || args.next().expect("a value after the option");
@@ -32,6 +36,7 @@ fn main() {
             "--seeds" => seeds = value().parse().expect("a count"),
             "--from-truth" => from_truth = true,
             "--equal-weights" => equal = true,
+            "--write" => write = Some(std::path::PathBuf::from(value())),
             "--noise" => noise = value().parse().expect("a fraction"),
             "--factors" => {
                 factors = value()
@@ -62,6 +67,22 @@ fn main() {
             for seed in 1..=seeds {
                 let model = widened(&example(name), factor, seed);
                 let y = data(&model, noise, seed);
+                if let Some(dir) = &write {
+                    // The case as files, for `rfeid identify --timings`.
+                    let case = dir.join(format!("{name}-f{factor}-s{seed}"));
+                    std::fs::create_dir_all(&case).expect("the case directory");
+                    let source = example(name);
+                    let text = widened_text(&source, &model);
+                    std::fs::write(case.join("model.toml"), text).expect("model written");
+                    for f in &model.files {
+                        let to = case.join(f.file_name().expect("a file name"));
+                        std::fs::copy(f, to).expect("signal table copied");
+                    }
+                    let mut csv = Vec::new();
+                    let series = rfeid::measurement::to_timeseries(&model, &y);
+                    rfeid::io::timeseries::write_csv_to(&mut csv, &series).expect("CSV");
+                    std::fs::write(case.join("data.csv"), csv).expect("data written");
+                }
                 let t = Instant::now();
                 let r = run(&model, y, &settings);
                 let wall = t.elapsed().as_secs_f64();

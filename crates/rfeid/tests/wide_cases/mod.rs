@@ -86,3 +86,34 @@ pub fn worst_z(r: &IdentificationResult) -> (f64, String) {
         })
         .fold((0.0, String::new()), |a, b| if b.0 > a.0 { b } else { a })
 }
+
+/// The model file at `path` with the boxes of `wide` (same parameters) as
+/// SI numbers, for `rfeid identify` runs of the same case.
+pub fn widened_text(path: &Path, wide: &Model) -> String {
+    let text = std::fs::read_to_string(path).expect("the model file reads");
+    let mut blocks = text.split("[[parameter]]");
+    let mut out = blocks.next().expect("a model").to_string();
+    for block in blocks {
+        let name = block
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("name = "))
+            .expect("a name")
+            .trim_matches('"');
+        let p = wide
+            .parameters
+            .iter()
+            .find(|p| p.name == name)
+            .expect("the parameter");
+        let edited: Vec<String> = block
+            .lines()
+            .map(|l| match (p.bounds, l.trim_start()) {
+                (Some((lo, _)), t) if t.starts_with("min = ") => format!("min = {lo:e}"),
+                (Some((_, hi)), t) if t.starts_with("max = ") => format!("max = {hi:e}"),
+                _ => l.to_string(),
+            })
+            .collect();
+        out.push_str("[[parameter]]");
+        out.push_str(&edited.join("\n"));
+    }
+    out
+}
