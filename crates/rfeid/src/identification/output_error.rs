@@ -325,16 +325,9 @@ impl<'m> OutputError<'m> {
 
     /// Every experiment's simulated response at u, in parallel.
     pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
-        self.parts
-            .par_iter()
-            .map(|part| {
-                let mut ws = part.workspace(0);
-                part.all_params(u, &self.maps, &mut ws.params);
-                part.data
-                    .sim
-                    .run(&ws.params, &mut ws.sim, &mut ws.response)?;
-                Ok(ws.response)
-            })
+        (0..self.parts.len())
+            .into_par_iter()
+            .map(|i| self.simulate_part(i, u))
             .collect::<Vec<_>>()
             .into_iter()
             .collect()
@@ -342,7 +335,12 @@ impl<'m> OutputError<'m> {
 
     /// The first experiment's simulated response at u.
     pub fn simulate(&self, u: &[f64]) -> Result<Response, SimulationError> {
-        let part = &self.parts[0];
+        self.simulate_part(0, u)
+    }
+
+    /// Experiment `i`'s simulated response at u.
+    fn simulate_part(&self, i: usize, u: &[f64]) -> Result<Response, SimulationError> {
+        let part = &self.parts[i];
         let mut ws = part.workspace(0);
         part.all_params(u, &self.maps, &mut ws.params);
         part.data
