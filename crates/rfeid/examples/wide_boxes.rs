@@ -3,7 +3,7 @@
 //! in standard errors, the verdict and the wall time of the identification.
 //!
 //! ```sh
-//! cargo run --release -p rfeid --example wide_boxes -- [--seeds 5] [--noise 0.01] [--factors 10,100] [--equal-weights] [--from-truth] [MODEL...]
+//! cargo run --release -p rfeid --example wide_boxes -- [--seeds 5] [--first-seed 1] [--noise 0.01] [--factors 10,100] [--equal-weights] [--from-truth] [MODEL...]
 //! ```
 //!
 //! MODEL names a directory under `examples/` (default: all of
@@ -23,6 +23,7 @@ use wide_cases::{data, default_settings, example, run, widened, widened_text, wo
 
 fn main() {
     let mut seeds = 5u64;
+    let mut first_seed = 1u64;
     let mut noise = 0.01;
     let mut factors = vec![10.0, 100.0];
     let mut models: Vec<String> = Vec::new();
@@ -34,6 +35,7 @@ fn main() {
         let mut value = || args.next().expect("a value after the option");
         match a.as_str() {
             "--seeds" => seeds = value().parse().expect("a count"),
+            "--first-seed" => first_seed = value().parse().expect("a seed"),
             "--from-truth" => from_truth = true,
             "--equal-weights" => equal = true,
             "--write" => write = Some(std::path::PathBuf::from(value())),
@@ -64,7 +66,7 @@ fn main() {
     let (mut cases, mut within) = (0, 0);
     for name in &models {
         for &factor in &factors {
-            for seed in 1..=seeds {
+            for seed in first_seed..first_seed + seeds {
                 let model = widened(&example(name), factor, seed);
                 let y = data(&model, noise, seed);
                 if let Some(dir) = &write {
