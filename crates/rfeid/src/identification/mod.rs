@@ -15,6 +15,7 @@
 //!   it cannot (bounds, distinct minima, convergence, fit, residual
 //!   whiteness, identifiability).
 pub mod bfgs;
+pub mod blocked_qr;
 pub mod box_map;
 pub mod chi_square;
 mod fd_gradient;

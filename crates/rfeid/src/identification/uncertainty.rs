@@ -36,6 +36,7 @@
 use nalgebra::DMatrix;
 use serde::Serialize;
 
+use super::blocked_qr::BlockedQr;
 use super::settings::{in_unit_interval, positive, SettingsError};
 
 /// Thresholds of the identifiability analysis, validated when set.
@@ -332,6 +333,70 @@ fn analyse(
         col /= norms[j];
     }
     let rs = hs.qr().unpack_r();
+    from_scaled_factor(rs, &norms, n_obs, factors, ssr, box_widths, settings)
+}
+
+/// [`cramer_rao_mapped`] from the triangular factor of `∂r/∂u` accumulated
+/// by row blocks ([`BlockedQr`]), for problems whose Jacobian is too large
+/// to hold: `H₁ᵀH₁` depends on H₁ only through R (`H₁ = Q R`), and the
+/// column norms of H₁ are those of R. Agrees with [`cramer_rao_mapped`] on
+/// the whole Jacobian to rounding.
+pub fn cramer_rao_blocked(
+    qr: &BlockedQr,
+    ssr: f64,
+    dx_du: &[f64],
+    box_widths: &[f64],
+    settings: &UncertaintySettings,
+) -> Result<CramerRao, UncertaintyError> {
+    let r = qr.n_cols();
+    check_widths(r, Some(box_widths))?;
+    check_widths(r, Some(dx_du))?;
+    if r == 0 {
+        return Err(UncertaintyError::NoParameters);
+    }
+    let n_obs = qr.rows();
+    if n_obs <= r + 1 {
+        return Err(UncertaintyError::TooFewObservations {
+            n_observations: n_obs,
+            n_parameters: r,
+        });
+    }
+    if !(ssr.is_finite() && ssr >= 0.0) {
+        return Err(UncertaintyError::InvalidSsr { ssr });
+    }
+    for (column, col) in qr.r().column_iter().enumerate() {
+        if let Some(row) = col.iter().position(|v| !v.is_finite()) {
+            return Err(UncertaintyError::NonFiniteJacobian { row, column });
+        }
+    }
+    let norms = qr.column_norms();
+    let zero: Vec<usize> = (0..r).filter(|&j| norms[j] == 0.0).collect();
+    if !zero.is_empty() {
+        return Err(UncertaintyError::Singular {
+            parameters: zero,
+            condition_number: f64::INFINITY,
+        });
+    }
+    let mut rs = qr.r().clone();
+    for (j, mut col) in rs.column_iter_mut().enumerate() {
+        col /= norms[j];
+    }
+    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
+    from_scaled_factor(rs, &norms, n_obs, &factors, ssr, Some(box_widths), settings)
+}
+
+/// The analysis from `rs`, the triangular factor of the column-scaled
+/// Jacobian `H_s = H C⁻¹` with `C = diag(norms)`.
+fn from_scaled_factor(
+    rs: DMatrix<f64>,
+    norms: &[f64],
+    n_obs: usize,
+    factors: &[f64],
+    ssr: f64,
+    box_widths: Option<&[f64]>,
+    settings: &UncertaintySettings,
+) -> Result<CramerRao, UncertaintyError> {
+    let r = rs.ncols();
     let svd = rs.clone().svd(false, true);
     let sigma = &svd.singular_values;
     let v = svd.v_t.as_ref().expect("V was requested").transpose();
