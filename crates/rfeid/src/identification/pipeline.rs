@@ -5,7 +5,7 @@ use super::lm::{LevenbergMarquardt, LmSettings};
 use super::output_error::OutputError;
 use super::plan::{LpTau, Plan, PlanError};
 use super::plan_eval::{evaluate_indices, rank};
-use super::problem::{sum_of_squares, LeastSquares};
+use super::problem::{evaluate_cost, sum_of_squares, LeastSquares};
 pub use super::result::StartFailure;
 use super::result::{
     ExperimentSummary, IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings,
@@ -369,6 +369,67 @@ fn restart_from_side_minima(
     out
 }
 
+/// Sensor weights estimated from the residuals ([`Weighting::EstimatedNoise`]):
+/// each sensor weighted by the inverse of its residual variance at the end
+/// of `best` (eq. 14 with each sensor's own noise level), the search
+/// continued with those weights, until they change by less than 1 % (at
+/// most 5 rounds). Returns the end under the weights `problem` then holds;
+/// adds the simulations spent (plain, with sensitivities, failed) to
+/// `counts`.
+fn estimate_weights(
+    problem: &mut OutputError<'_>,
+    settings: &Settings,
+    mut best: Search,
+    progress: &dyn Progress,
+    counts: &mut (usize, usize, usize),
+) -> Result<Search, IdentifyError> {
+    for _ in 0..5 {
+        let ssr = sensor_ssr(problem, &best.u).map_err(|e| IdentifyError::Solve(e.to_string()))?;
+        counts.0 += problem.n_experiments();
+        let weights: Vec<f64> = ssr
+            .iter()
+            .zip(problem.weight_samples())
+            .map(|(s, used)| {
+                if *s > 0.0 {
+                    used as f64 / s
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        // A sensor fitted exactly (zero residuals) gets the largest finite
+        // weight, not an arbitrary one.
+        let largest = weights
+            .iter()
+            .cloned()
+            .filter(|w| w.is_finite())
+            .fold(1.0, f64::max);
+        let weights: Vec<f64> = weights
+            .iter()
+            .map(|w| if w.is_finite() { *w } else { largest })
+            .collect();
+        let scale = weights.iter().cloned().fold(f64::INFINITY, f64::min);
+        let weights: Vec<f64> = weights.iter().map(|w| w / scale).collect();
+        let change = weights
+            .iter()
+            .zip(problem.weights())
+            .map(|(a, b)| (a / b - 1.0).abs())
+            .fold(0.0, f64::max);
+        if change < 0.01 {
+            // Keep the weights J was minimised with, so that the
+            // reported criterion and weights belong together.
+            break;
+        }
+        problem.set_weights(&weights);
+        let s = local_search(problem, settings, &best.u, progress)?;
+        counts.0 += s.residual_evals;
+        counts.1 += s.jacobian_evals;
+        counts.2 += s.failed;
+        best = s;
+    }
+    Ok(best)
+}
+
 fn local_search(
     problem: &OutputError<'_>,
     settings: &Settings,
@@ -559,6 +620,42 @@ pub fn finish(
     };
     let (mut searches, mut start_failures) = (searches, start_failures);
     let used: Vec<usize> = starts.iter().map(|&(idx, _)| idx).collect();
+    // The weights first, at the best end: the fit checks that decide on
+    // restarts must judge each sensor at an estimate weighted by its own
+    // noise. With the first weights, a sensor of little signal (a campaign's
+    // low force level) is left underfitted even at the right minimum, and
+    // its residuals fail the checks.
+    let best_end = searches
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.cost.total_cmp(&b.1.cost))
+        .map(|(k, _)| k);
+    if let (Weighting::EstimatedNoise, Start::Plan, true, Some(k)) = (
+        settings.weighting,
+        settings.start,
+        settings.restarts > 0,
+        best_end,
+    ) {
+        let mut counts = (0, 0, 0);
+        let end = estimate_weights(
+            &mut problem,
+            settings,
+            searches.remove(k),
+            progress,
+            &mut counts,
+        )?;
+        searches.insert(k, end);
+        sims += counts.0;
+        sims_sens += counts.1;
+        failed += counts.2;
+        // The other ends' J under the new weights, so that the ends compare.
+        let mut ws = problem.workspace();
+        let mut r = vec![0.0; problem.n_residuals()];
+        for (_, s) in searches.iter_mut().enumerate().filter(|(j, _)| *j != k) {
+            s.cost = evaluate_cost(&problem, &mut ws, &s.u, &mut r).unwrap_or(f64::INFINITY);
+            sims += 1;
+        }
+    }
     let restarted = match settings.start {
         Start::Plan => restart_from_side_minima(
             &problem,
@@ -597,51 +694,11 @@ pub fn finish(
         return Err(IdentifyError::AllStartsFailed(start_failures));
     };
     if settings.weighting == Weighting::EstimatedNoise {
-        for _ in 0..5 {
-            let ssr =
-                sensor_ssr(&problem, &best.u).map_err(|e| IdentifyError::Solve(e.to_string()))?;
-            sims += problem.n_experiments();
-            let weights: Vec<f64> = ssr
-                .iter()
-                .zip(problem.weight_samples())
-                .map(|(s, used)| {
-                    if *s > 0.0 {
-                        used as f64 / s
-                    } else {
-                        f64::INFINITY
-                    }
-                })
-                .collect();
-            // A sensor fitted exactly (zero residuals) gets the largest finite
-            // weight, not an arbitrary one.
-            let largest = weights
-                .iter()
-                .cloned()
-                .filter(|w| w.is_finite())
-                .fold(1.0, f64::max);
-            let weights: Vec<f64> = weights
-                .iter()
-                .map(|w| if w.is_finite() { *w } else { largest })
-                .collect();
-            let scale = weights.iter().cloned().fold(f64::INFINITY, f64::min);
-            let weights: Vec<f64> = weights.iter().map(|w| w / scale).collect();
-            let change = weights
-                .iter()
-                .zip(problem.weights())
-                .map(|(a, b)| (a / b - 1.0).abs())
-                .fold(0.0, f64::max);
-            if change < 0.01 {
-                // Keep the weights J was minimised with, so that the
-                // reported criterion and weights belong together.
-                break;
-            }
-            problem.set_weights(&weights);
-            let s = local_search(&problem, settings, &best.u, progress)?;
-            sims += s.residual_evals;
-            sims_sens += s.jacobian_evals;
-            failed += s.failed;
-            best = s;
-        }
+        let mut counts = (0, 0, 0);
+        best = estimate_weights(&mut problem, settings, best, progress, &mut counts)?;
+        sims += counts.0;
+        sims_sens += counts.1;
+        failed += counts.2;
     }
     // The steps per sample were chosen before the search and held fixed (so
     // that J stays smooth); check them at the estimate, and if it needs
