@@ -103,7 +103,8 @@ fn knee_column_geometry_and_experiment_are_spec_section_4() {
         s1.components[0].law,
         Law::Power {
             a: param(&m, "a_n1"),
-            m: Value::Fixed(2.0)
+            m: Value::Fixed(2.0),
+            reference: 1.0
         }
     );
     assert_eq!(s1.components[0].damping, param(&m, "h_n1"));

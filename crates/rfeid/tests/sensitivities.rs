@@ -401,6 +401,46 @@ fn fractional_exponent_matches_finite_differences() {
     compare_with_finite_differences(&model, &wrt);
 }
 
+/// The supports' law with a reference deformation δ_ref = 10 µm (the order
+/// of their preload), m = 1.7: `a = 1e12 · δ_ref^m` N makes it the same
+/// spring as [`EVERY_USAGE`]'s, so the response is the same to rounding;
+/// the sensitivities to a (now a force) and to m (now about δ_ref) match
+/// finite differences on the dense and the element-by-element kernels.
+#[test]
+fn reference_deformation_is_the_same_spring_and_matches_finite_differences() {
+    let fractional =
+        EVERY_USAGE.replace("name = \"m_n\"\nvalue = 2.0", "name = \"m_n\"\nvalue = 1.7");
+    let a_ref = 1e12 * 1e-5f64.powf(1.7);
+    let text = fractional
+        .replace(r#"c = "c_n" }"#, r#"c = "c_n", reference = "10 um" }"#)
+        .replace(
+            "name = \"a_n\"\nvalue = 1e12\nmin = 5e11\nmax = 2e12",
+            &format!(
+                "name = \"a_n\"\nvalue = {a_ref:e}\nmin = {:e}\nmax = {:e}",
+                a_ref / 2.0,
+                a_ref * 2.0
+            ),
+        );
+    assert_eq!(text.matches("reference = \"10 um\"").count(), 2);
+    let (plain, model) = (model(&fractional), model(&text));
+    let run = |m: &Model| {
+        let sim = Simulator::new(m);
+        let mut y = sim.response_buffer();
+        sim.run(&m.nominal(), &mut Workspace::default(), &mut y)
+            .unwrap();
+        y.values
+    };
+    let (y0, y1) = (run(&plain), run(&model));
+    let diff: Vec<f64> = y0.iter().zip(&y1).map(|(a, b)| a - b).collect();
+    assert_within("relative RMS difference", rms(&diff) / rms(&y0), 1e-12);
+    let wrt = model.identified();
+    for kernel in [Kernel::Dense, Kernel::Sparse] {
+        let mut sim = Simulator::new(&model);
+        sim.set_kernel(kernel);
+        compare_with(&model, &sim, &wrt, 2e-6);
+    }
+}
+
 /// A generated 10-body machine tool (issue 12) with every place a parameter
 /// can stand identified, run through the element-by-element kernels.
 fn machine_tool_10() -> Model {

@@ -101,7 +101,10 @@ pub fn summary(model: &Model) -> String {
                     let law = match c.law {
                         Law::None => "c only".to_string(),
                         Law::Linear { k } => format!("k={}", value(&k)),
-                        Law::Power { a, m } => format!("a={} m={}", value(&a), value(&m)),
+                        Law::Power { a, m, reference } if reference != 1.0 => {
+                            format!("a={} m={} reference={reference} m", value(&a), value(&m))
+                        }
+                        Law::Power { a, m, .. } => format!("a={} m={}", value(&a), value(&m)),
                     };
                     format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
                 })

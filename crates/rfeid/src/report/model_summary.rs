@@ -57,7 +57,12 @@ fn components(model: &Model, e: &crate::model::Element) -> String {
             let law = match c.law {
                 Law::None => "no spring".to_owned(),
                 Law::Linear { k } => format!("k = {}", value(model, &k, k_unit)),
-                Law::Power { a, m } => format!(
+                Law::Power { a, m, reference } if reference != 1.0 => format!(
+                    "a·sign(δ)(|δ|/δ<sub>ref</sub>)<sup>m</sup>, a = {}, m = {}, δ<sub>ref</sub> = {reference:e}",
+                    value(model, &a, ""),
+                    value(model, &m, "")
+                ),
+                Law::Power { a, m, .. } => format!(
                     "a·sign(δ)|δ|<sup>m</sup>, a = {}, m = {}",
                     value(model, &a, ""),
                     value(model, &m, "")

@@ -8,7 +8,6 @@
 use super::structure::Usage;
 use super::system::{power_law, System};
 use super::SimulationError;
-use crate::model::Law;
 use nalgebra::{DMatrix, DVector};
 
 /// A static equilibrium and its sensitivities.
@@ -129,16 +128,15 @@ fn explicit(sys: &System<'_>, usage: Usage, q: &[f64], rhs: &mut DMatrix<f64>, c
     match usage {
         Usage::Stiffness(i) => add(&comps[i].row, comps[i].row.dot(q)),
         Usage::PowerCoefficient(i) | Usage::PowerExponent(i) => {
-            let Law::Power { a, m } = comps[i].law else {
+            let Some(p) = comps[i].law.power_spring(&sys.params) else {
                 return;
             };
-            let (a, m) = (a.eval(&sys.params), m.eval(&sys.params));
             let d = comps[i].row.dot(q);
-            let (f, _) = power_law(1.0, m, d);
+            let (f, _) = power_law(1.0, p.m, d);
             let force = match usage {
-                Usage::PowerCoefficient(_) => f,
+                Usage::PowerCoefficient(_) => p.per_a * f,
                 _ if d == 0.0 => 0.0,
-                _ => a * f * d.abs().ln(),
+                _ => p.coef * f * (d.abs().ln() - p.ln_ref),
             };
             add(&comps[i].row, force);
         }

@@ -10,6 +10,7 @@
 use super::madd::Madd;
 use super::structure::Structure;
 use super::system::power_law;
+use crate::model::PowerSpring;
 
 /// One component row with its coefficients at one parameter point.
 #[derive(Debug, Clone)]
@@ -25,10 +26,8 @@ pub(crate) struct SparseComp {
     pub k: f64,
     /// Damping c.
     pub c: f64,
-    /// `(a, m)` of a power-law spring, `a = 0` for none.
-    pub a: f64,
-    /// The exponent m (2 where there is no power law; unused then).
-    pub m: f64,
+    /// The power-law spring, if any.
+    pub power: Option<PowerSpring>,
 }
 
 /// A load or other n-vector stored by its nonzero 6-blocks.
@@ -60,14 +59,14 @@ impl BlockVec {
 pub(crate) fn sparse_components(
     structure: &Structure,
     minv: &[f64],
-    coef: impl Fn(usize) -> (f64, f64, f64, f64),
+    coef: impl Fn(usize) -> (f64, f64, Option<PowerSpring>),
 ) -> Vec<SparseComp> {
     structure
         .components
         .iter()
         .enumerate()
         .map(|(i, comp)| {
-            let (k, c, a, m) = coef(i);
+            let (k, c, power) = coef(i);
             let mut off = [0; 2];
             let mut b = [0.0; 12];
             let mut g = [0.0; 12];
@@ -87,8 +86,7 @@ pub(crate) fn sparse_components(
                 g,
                 k,
                 c,
-                a,
-                m,
+                power,
             }
         })
         .collect()
@@ -142,8 +140,8 @@ pub(crate) fn sparse_accel<M: Madd>(
         }
         let (d, dv) = (d[0] + d[1], dv[0] + dv[1]);
         let mut f = M::madd(comp.k, d, comp.c * dv);
-        if comp.a != 0.0 {
-            f += power_law(comp.a, comp.m, d).0;
+        if let Some(p) = comp.power {
+            f += power_law(p.coef, p.m, d).0;
         }
         for (a, g) in acc[o0..o0 + 6].iter_mut().zip(&comp.g[..6]) {
             *a = M::madd(f, *g, *a);

@@ -39,9 +39,8 @@ pub(crate) fn sparse_tangent<M: Madd>(
             d[1] = M::madd(comp.b[6 + i], q[o1 + i], d[1]);
         }
         let d = d[0] + d[1];
-        let power = (comp.a != 0.0).then_some((comp.a, comp.m));
-        let slope = match power {
-            Some((a, m)) => comp.k + power_law(a, m, d).1,
+        let slope = match comp.power {
+            Some(p) => comp.k + power_law(p.coef, p.m, d).1,
             None => comp.k,
         };
         let rows = [o0, o1];
@@ -74,8 +73,7 @@ fn component_columns<M: Madd, const W: usize>(
     let mut t = [0.0; W];
     for &(col, usage) in usages {
         if (c0..c0 + W).contains(&col) {
-            let power = (comp.a != 0.0).then_some((comp.a, comp.m));
-            s[col - c0] += force_derivative(usage, power, d, || {
+            s[col - c0] += force_derivative(usage, comp.power, d, || {
                 let mut dv = [0.0; 2];
                 for i in 0..6 {
                     dv[0] = M::madd(comp.b[i], v[o0 + i], dv[0]);

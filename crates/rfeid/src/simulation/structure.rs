@@ -187,7 +187,7 @@ impl Structure {
             match &c.law {
                 Law::None => {}
                 Law::Linear { k } => add(k, Usage::Stiffness(i)),
-                Law::Power { a, m } => {
+                Law::Power { a, m, .. } => {
                     add(a, Usage::PowerCoefficient(i));
                     add(m, Usage::PowerExponent(i));
                 }

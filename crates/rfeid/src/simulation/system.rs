@@ -18,7 +18,8 @@ use crate::model::{Law, Model, Signal};
 pub struct PowerRow {
     /// δ = row · q.
     pub row: Row,
-    /// Coefficient a.
+    /// Coefficient a of `sign(δ)|δ|^m`, δ in SI units (a · δ_ref^(−m) of
+    /// the model's law).
     pub a: f64,
     /// Exponent m ≥ 1.
     pub m: f64,
@@ -140,7 +141,7 @@ impl<'a> System<'a> {
             match comp.law {
                 Law::None => {}
                 Law::Linear { k: kv } => outer(&mut k, &comp.row, kv.eval(params)),
-                Law::Power { a, m } => {
+                Law::Power { m, .. } => {
                     let m = m.eval(params);
                     if !(m >= 1.0) {
                         return Err(SimulationError::BadExponent {
@@ -148,9 +149,10 @@ impl<'a> System<'a> {
                             value: m,
                         });
                     }
+                    let spring = comp.law.power_spring(params).expect("a power law");
                     power.push(PowerRow {
                         row: comp.row.clone(),
-                        a: a.eval(params),
+                        a: spring.coef,
                         m,
                         kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
                     });
@@ -171,12 +173,11 @@ impl<'a> System<'a> {
             .collect();
         let comps = sparse_components(structure, &minv, |i| {
             let comp = &structure.components[i];
-            let (k, a, m) = match comp.law {
-                Law::None => (0.0, 0.0, 2.0),
-                Law::Linear { k } => (k.eval(params), 0.0, 2.0),
-                Law::Power { a, m } => (0.0, a.eval(params), m.eval(params)),
+            let k = match comp.law {
+                Law::Linear { k } => k.eval(params),
+                _ => 0.0,
             };
-            (k, comp.damping.eval(params), a, m)
+            (k, comp.damping.eval(params), comp.law.power_spring(params))
         });
         let minv_load_blocks = minv_loads.iter().map(|l| BlockVec::from_dense(l)).collect();
         let sparse = prefer_sparse(n, comps.len(), power.len(), 0);
@@ -367,15 +368,13 @@ impl<'a> System<'a> {
         kt
     }
 
-    /// For each component row, `Some((a, m))` for a power-law spring.
+    /// For each component row, `Some((a, m))` for a power-law spring
+    /// `a · sign(δ)|δ|^m`, δ in SI units.
     pub fn power_components(&self) -> Vec<Option<(f64, f64)>> {
         self.structure
             .components
             .iter()
-            .map(|c| match c.law {
-                Law::Power { a, m } => Some((a.eval(&self.params), m.eval(&self.params))),
-                _ => None,
-            })
+            .map(|c| c.law.power_spring(&self.params).map(|p| (p.coef, p.m)))
             .collect()
     }
 

@@ -20,7 +20,7 @@ use super::madd::Madd;
 use super::sparse_tangent::sparse_tangent;
 use super::structure::Usage;
 use super::system::{power_law, System};
-use crate::model::Law;
+use crate::model::{Law, PowerSpring};
 
 /// A component row that enters the sensitivities beyond the dense linear
 /// part: a power-law spring, or a component holding an identified parameter.
@@ -30,8 +30,8 @@ struct Active {
     b: Vec<f64>,
     /// `−M⁻¹ B_iᵀ`, dense (n).
     g: Vec<f64>,
-    /// `(a, m)` of a power-law spring.
-    power: Option<(f64, f64)>,
+    /// The power-law spring, if any.
+    power: Option<PowerSpring>,
     /// Identified parameters acting here: (column, usage).
     usages: Vec<(usize, Usage)>,
 }
@@ -103,10 +103,7 @@ impl Tangent {
             .zip(usages)
             .filter(|(c, u)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
             .map(|(c, usages)| {
-                let power = match c.law {
-                    Law::Power { a, m } => Some((a.eval(&sys.params), m.eval(&sys.params))),
-                    _ => None,
-                };
+                let power = c.law.power_spring(&sys.params);
                 let b = c.row.dense(n);
                 Active {
                     g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
@@ -169,8 +166,8 @@ impl Tangent {
         for comp in &self.active {
             let (b, g) = (&comp.b[..n], &comp.g[..n]);
             let d = dot::<M>(b, q);
-            if let Some((a, m)) = comp.power {
-                let slope = power_law(a, m, d).1;
+            if let Some(p) = comp.power {
+                let slope = power_law(p.coef, p.m, d).1;
                 if slope != 0.0 {
                     for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
                         axpy::<M>(slope * g[k], b, &mut row[..n]);
@@ -235,27 +232,22 @@ impl Tangent {
 
 /// `∂f_i/∂x` of a component's force `f_i = k δ + a sign(δ)|δ|^m + c δ̇`
 /// (eq. 2–7) for the parameter x used as `usage`, at deformation `d`;
-/// `rate` gives δ̇ (computed only for a damping). `power` is `(a, m)` of a
-/// power-law spring.
+/// `rate` gives δ̇ (computed only for a damping). `power` is the component's
+/// power-law spring (always present for a power-law usage).
 #[inline(always)]
 pub(super) fn force_derivative(
     usage: Usage,
-    power: Option<(f64, f64)>,
+    power: Option<PowerSpring>,
     d: f64,
     rate: impl FnOnce() -> f64,
 ) -> f64 {
-    match usage {
-        Usage::Stiffness(_) => d,
-        Usage::Damping(_) => rate(),
-        Usage::PowerCoefficient(_) => {
-            let (_, m) = power.unwrap_or((0.0, 1.0));
-            power_law(1.0, m, d).0
-        }
-        Usage::PowerExponent(_) => {
-            let (a, m) = power.unwrap_or((0.0, 1.0));
-            exponent_derivative(a, m, d)
-        }
-        Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => 0.0,
+    match (usage, power) {
+        (Usage::Stiffness(_), _) => d,
+        (Usage::Damping(_), _) => rate(),
+        (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_law(1.0, p.m, d).0,
+        (Usage::PowerExponent(_), Some(p)) => exponent_derivative(p, d),
+        (Usage::PowerCoefficient(_) | Usage::PowerExponent(_), None) => 0.0,
+        (Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..), _) => 0.0,
     }
 }
 
@@ -346,14 +338,15 @@ fn axpy<M: Madd>(alpha: f64, x: &[f64], y: &mut [f64]) {
     }
 }
 
-/// `∂f/∂m = a sign(δ)|δ|^m ln|δ|` of a power law. Kept out of line: inlined,
-/// the compiler may hoist the logarithm out of the branch that needs it and
-/// pay for it on every component of every stage.
+/// `∂f/∂m = a sign(δ)(|δ|/δ_ref)^m ln(|δ|/δ_ref)` of a power law (eq. 6),
+/// computed as `coef sign(δ)|δ|^m (ln|δ| − ln δ_ref)`. Kept out of line:
+/// inlined, the compiler may hoist the logarithm out of the branch that
+/// needs it and pay for it on every component of every stage.
 #[inline(never)]
-fn exponent_derivative(a: f64, m: f64, d: f64) -> f64 {
+fn exponent_derivative(p: PowerSpring, d: f64) -> f64 {
     if d == 0.0 {
         0.0
     } else {
-        a * power_law(1.0, m, d).0 * d.abs().ln()
+        p.coef * power_law(1.0, p.m, d).0 * (d.abs().ln() - p.ln_ref)
     }
 }

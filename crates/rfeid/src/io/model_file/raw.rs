@@ -94,6 +94,7 @@ pub struct RawComponent {
     pub a: Option<SNum>,
     pub m: Option<SNum>,
     pub c: Option<SNum>,
+    pub reference: Option<SNum>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -41,6 +41,7 @@ pub(super) fn component(
         "linear" => {
             forbid(ctx, &rc.a, "a", "linear")?;
             forbid(ctx, &rc.m, "m", "linear")?;
+            forbid(ctx, &rc.reference, "reference", "linear")?;
             let k = ctx.value(
                 required(ctx, &rc.k, c.span(), &entry, "k")?,
                 k_dim,
@@ -66,8 +67,32 @@ pub(super) fn component(
                     format!("the exponent must be at least 1 (found {m_nominal})"),
                 ));
             }
+            // With a reference deformation δ_ref, a is the force (moment) at
+            // δ_ref; without, a multiplies |δ|^m with δ in m (rad).
+            let reference = match &rc.reference {
+                None => 1.0,
+                Some(v) => {
+                    let dim = if rotational {
+                        Dimension::DIMENSIONLESS
+                    } else {
+                        Dimension::LENGTH
+                    };
+                    let r = ctx.number(v, dim, &entry, "reference")?;
+                    if !(r > 0.0) {
+                        return Err(ctx.err(
+                            Some(v.span()),
+                            &entry,
+                            "reference",
+                            format!("the reference deformation must be positive (found {r})"),
+                        ));
+                    }
+                    r
+                }
+            };
             let a_dim = if rotational {
                 Dimension::MOMENT
+            } else if rc.reference.is_some() {
+                Dimension::FORCE
             } else {
                 Dimension::FORCE.div(Dimension::LENGTH.powf(m_nominal))
             };
@@ -78,9 +103,10 @@ pub(super) fn component(
                 "a",
             )?;
             non_negative(ctx, a, &rc.a, &entry, "a")?;
-            Law::Power { a, m }
+            Law::Power { a, m, reference }
         }
         "none" => {
+            forbid(ctx, &rc.reference, "reference", "none")?;
             if rc.c.is_none() {
                 return Err(ctx.err(
                     Some(c.span()),
