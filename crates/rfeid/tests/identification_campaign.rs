@@ -4,7 +4,6 @@
 //! identify`'s default settings (sum of eq. 16 over the experiments, the
 //! Cramér–Rao bounds of the stacked Jacobian, eq. 26–29).
 #[path = "wide_cases/mod.rs"]
-#[allow(dead_code)]
 mod wide_cases;
 
 use rfeid::identification::output_error::{ExperimentData, OutputError};
