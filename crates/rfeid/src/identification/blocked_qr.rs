@@ -17,7 +17,7 @@
 //! whole J). Unlike accumulating `JᵀJ` and `Jᵀr`, this does not square the
 //! condition number, which joint parameters make as large as 10⁸. Memory is
 //! `r² + b r` numbers instead of `N r`: for 5 tests × 6 sensors × 50 000
-//! samples and r = 200 parameters, 0.6 MB with blocks of 256 rows instead of
+//! samples and r = 200 parameters, 0.73 MB with blocks of 256 rows instead of
 //! 2.4 GB.
 //!
 //! The blocks are taken in row order by one thread, so the result is the same
