@@ -50,6 +50,11 @@ pub enum Command {
         after_help = "Example:\n  rfeid identify model.toml --data data.csv --shard 0/2 -o shard-0.json\n  rfeid identify model.toml --data data.csv --shard 1/2 -o shard-1.json\n  rfeid merge shard-0.json shard-1.json -o result.json"
     )]
     Merge(MergeArgs),
+    /// Check an identification on other data: simulate at the estimate and print the fit per sensor.
+    #[command(
+        after_help = "Example:\n  rfeid identify model.toml --data test1.csv -o result.json\n  rfeid validate model.toml result.json --data test2.csv --report check/\n  rfeid validate examples/knee-column-campaign/model.toml result.json   # every experiment\n  rfeid validate examples/knee-column-campaign/model.toml result.json --experiment low"
+    )]
+    Validate(ValidateArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
@@ -98,6 +103,27 @@ pub struct ReportArgs {
     /// Directory for report.html and the figures (SVG); its parent must exist, and an existing one is replaced whole.
     #[arg(short, long)]
     pub output: PathBuf,
+}
+
+/// `rfeid validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// The model file (TOML) the result was identified with.
+    pub model: PathBuf,
+    /// RESULT.json written by `rfeid identify`; its `--set` values are applied again.
+    pub result: PathBuf,
+    /// Measured data to check against (CSV, MAT or UFF), on the model's sensors and sampling (or those of --experiment).
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// One experiment of the model file: its data, or with --data its settings. Default: every experiment.
+    #[arg(long, value_name = "NAME")]
+    pub experiment: Option<String>,
+    /// Skip an initial transient: fit from this time in seconds (default: the experiment's `from`, else 0).
+    #[arg(long, value_name = "S")]
+    pub from: Option<f64>,
+    /// Also write the HTML report of the result on these data (one data set only).
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
 }
 
 /// `rfeid modal`.

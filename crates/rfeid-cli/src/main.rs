@@ -26,6 +26,7 @@ fn main() -> ExitCode {
         cli::Command::Demo(a) => commands::demo::run(a, &ui),
         cli::Command::Report(a) => commands::report::run(a, &ui),
         cli::Command::Merge(a) => commands::merge::run(a, &ui),
+        cli::Command::Validate(a) => commands::validate::run(a, &ui),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

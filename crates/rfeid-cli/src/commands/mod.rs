@@ -9,3 +9,4 @@ pub mod modal;
 pub mod report;
 pub mod shard;
 pub mod simulate;
+pub mod validate;

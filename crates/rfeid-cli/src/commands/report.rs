@@ -14,14 +14,7 @@ use std::path::{Path, PathBuf};
 /// Runs the command: reloads the model and data that RESULT.json names,
 /// simulates the model at the estimate and writes the report.
 pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
-    let text = std::fs::read_to_string(&args.result)
-        .map_err(|e| Failure::input_msg(format!("{}: {e}", args.result.display())))?;
-    let result: IdentificationResult = serde_json::from_str(&text).map_err(|e| {
-        Failure::input_msg(format!(
-            "{}: not an rfeid result: {e}",
-            args.result.display()
-        ))
-    })?;
+    let result = read_result(&args.result)?;
     let base = args.result.parent().unwrap_or(Path::new(""));
     let resolve = |p: &str| -> PathBuf {
         let p = PathBuf::from(p);
@@ -79,6 +72,14 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
         files.len() - 1
     ));
     Ok(())
+}
+
+/// Reads a RESULT.json; an unreadable or foreign file is bad input naming it.
+pub fn read_result(path: &Path) -> Result<IdentificationResult, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Failure::input_msg(format!("{}: not an rfeid result: {e}", path.display())))
 }
 
 /// The demo's title.

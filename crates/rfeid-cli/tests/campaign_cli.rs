@@ -1,0 +1,266 @@
+//! Campaigns on the command line (SPEC §5): a validation experiment left
+//! out of the fit, `rfeid validate`, and every campaign input mistake
+//! exiting 2 with file, entry and field named and no output written.
+mod support;
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use support::*;
+
+/// The oscillator with its excitation amplitude a fixed parameter `P`, and
+/// `experiments` (TOML) appended.
+fn campaign_model(dir: &Path, experiments: &str) -> PathBuf {
+    campaign_model_as(dir, experiments, "campaign.toml")
+}
+
+/// [`campaign_model`] written as `dir/file`.
+fn campaign_model_as(dir: &Path, experiments: &str, file: &str) -> PathBuf {
+    let base = oscillator_model(dir);
+    let text = std::fs::read_to_string(&base)
+        .unwrap()
+        .replace("amplitude = 100.0", "amplitude = \"P\"")
+        + "\n[[parameter]]\nname = \"P\"\nvalue = 100.0\n"
+        + experiments;
+    let path = dir.join(file);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+const THREE: &str = "\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\nset = { P = 100.0 }\n\
+     \n[[experiment]]\nname = \"b\"\ndata = \"b.csv\"\nset = { P = 40.0 }\n\
+     \n[[experiment]]\nname = \"v\"\ndata = \"v.csv\"\nset = { P = 70.0 }\nuse = \"validation\"\n";
+
+/// Simulates experiment `name` of `model` into `dir/NAME.csv`, 1 % noise.
+fn simulate_experiment(dir: &Path, model: &Path, name: &str, seed: u32) {
+    let st = rfeid()
+        .arg("simulate")
+        .arg(model)
+        .args(["--experiment", name, "--noise", "0.01", "--seed"])
+        .arg(seed.to_string())
+        .arg("-o")
+        .arg(dir.join(format!("{name}.csv")))
+        .arg("-q")
+        .status()
+        .unwrap();
+    assert!(st.success());
+}
+
+fn json(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+fn estimates(v: &Value) -> Vec<(String, u64)> {
+    v["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p["name"].as_str().unwrap().to_string(),
+                p["estimate"].as_f64().unwrap().to_bits(),
+            )
+        })
+        .collect()
+}
+
+/// A validation experiment changes nothing in the fit (estimates bit for
+/// bit those of the campaign without it) and its fit is reported; `rfeid
+/// validate` gives the fits identify reported, for a fitted and for the
+/// validation experiment.
+#[test]
+fn validation_experiment_and_validate_command() {
+    let dir = scratch_dir("campaign-validate");
+    let model = campaign_model(&dir, THREE);
+    for (k, name) in ["a", "b", "v"].iter().enumerate() {
+        simulate_experiment(&dir, &model, name, k as u32 + 1);
+    }
+    let out = dir.join("r.json");
+    let st = rfeid()
+        .arg("identify")
+        .arg(&model)
+        .arg("-o")
+        .arg(&out)
+        .args(["--plan", "20", "-q"])
+        .status()
+        .unwrap();
+    assert!(finished(st), "{st:?}");
+    let with_v = json(&out);
+    let fitted_only = campaign_model_as(
+        &dir,
+        &THREE[..THREE.find("\n[[experiment]]\nname = \"v\"").unwrap()],
+        "fitted.toml",
+    );
+    let out2 = dir.join("r2.json");
+    let st = rfeid()
+        .arg("identify")
+        .arg(&fitted_only)
+        .arg("-o")
+        .arg(&out2)
+        .args(["--plan", "20", "-q"])
+        .status()
+        .unwrap();
+    assert!(finished(st));
+    assert_eq!(estimates(&with_v), estimates(&json(&out2)));
+    let experiments = with_v["experiments"].as_array().unwrap();
+    let v = experiments.iter().find(|e| e["name"] == "v").unwrap();
+    assert_eq!(v["role"], "validation");
+    let fits: Vec<f64> = v["fits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f.as_f64().unwrap())
+        .collect();
+    assert_eq!(fits.len(), 3);
+    assert!(fits.iter().all(|f| *f > 95.0), "{fits:?}");
+
+    for name in ["b", "v"] {
+        let o = rfeid()
+            .arg("validate")
+            .arg(&model)
+            .arg(&out)
+            .args(["--experiment", name, "--json", "-q"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", flat(&o.stderr));
+        let got: Value = serde_json::from_slice(&o.stdout).unwrap();
+        let reported = &experiments.iter().find(|e| e["name"] == name).unwrap()["fits"];
+        for (g, r) in got[0]["fit_percent"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip(reported.as_array().unwrap())
+        {
+            let (g, r) = (g.as_f64().unwrap(), r.as_f64().unwrap());
+            assert!((g - r).abs() < 1e-6, "{name}: validate {g} vs identify {r}");
+        }
+    }
+    // Every experiment at once, as a table.
+    let o = rfeid()
+        .arg("validate")
+        .arg(&model)
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let table = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        table.contains("v (validation)") && table.contains("a (fit)"),
+        "{table}"
+    );
+}
+
+/// Runs `args` and checks exit 2, that stderr names every one of `names`,
+/// and that `out` was not written.
+fn refused(args: &[&std::ffi::OsStr], names: &[&str], out: &Path) {
+    let o = rfeid().args(args).output().unwrap();
+    let msg = flat(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {msg}");
+    for n in names {
+        assert!(msg.contains(n), "{args:?}: '{n}' not in: {msg}");
+    }
+    assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    assert!(temporaries(out.parent().unwrap()).is_empty());
+}
+
+#[test]
+fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
+    let dir = scratch_dir("campaign-bad");
+    let out = dir.join("r.json");
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let id = |m: &Path| {
+        vec![
+            os("identify"),
+            m.as_os_str().to_owned(),
+            os("-o"),
+            out.as_os_str().to_owned(),
+        ]
+    };
+    let call = |v: &[std::ffi::OsString], names: &[&str]| {
+        let v: Vec<&std::ffi::OsStr> = v.iter().map(|s| s.as_os_str()).collect();
+        refused(&v, names, &out);
+    };
+
+    // `set` naming an unknown parameter.
+    let m = campaign_model(
+        &dir,
+        "\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\nset = { Q = 1.0 }\n",
+    );
+    call(&id(&m), &["campaign.toml", "experiment", "set", "Q"]);
+
+    // A missing data file.
+    let m = campaign_model(&dir, THREE);
+    simulate_experiment(&dir, &m, "a", 1);
+    simulate_experiment(&dir, &m, "v", 3);
+    call(&id(&m), &["campaign.toml", "\"b\"", "data", "b.csv"]);
+
+    // Data lacking a sensor the experiment names.
+    let text = std::fs::read_to_string(dir.join("a.csv")).unwrap();
+    let cut: String = text
+        .lines()
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string() + "\n")
+        .collect();
+    std::fs::write(dir.join("b.csv"), cut).unwrap();
+    call(&id(&m), &["campaign.toml", "\"b\"", "data", "acc_x"]);
+
+    // --data with a model that lists experiments.
+    let mut v = id(&m);
+    v.extend([os("--data"), dir.join("a.csv").into_os_string()]);
+    call(&v, &["--data", "experiment"]);
+
+    // An unknown experiment.
+    let sim_out = dir.join("s.csv");
+    let v = [
+        os("simulate"),
+        m.as_os_str().to_owned(),
+        os("--experiment"),
+        os("zz"),
+        os("-o"),
+        sim_out.as_os_str().to_owned(),
+    ];
+    let vv: Vec<&std::ffi::OsStr> = v.iter().map(|s| s.as_os_str()).collect();
+    refused(&vv, &["zz"], &sim_out);
+
+    // validate: a result of another model, and an unknown experiment.
+    let plain = oscillator_model(&dir);
+    let data = simulate_csv(&dir, &plain);
+    let r = dir.join("plain.json");
+    assert!(finished(
+        identify(&plain, &data, &r)
+            .args(["--plan", "8", "-q"])
+            .status()
+            .unwrap()
+    ));
+    let other = dir.join("other.toml");
+    std::fs::write(
+        &other,
+        std::fs::read_to_string(&plain)
+            .unwrap()
+            .replace("\"k\"", "\"k2\""),
+    )
+    .unwrap();
+    let rep = dir.join("rep");
+    let v = [
+        os("validate"),
+        other.as_os_str().to_owned(),
+        r.as_os_str().to_owned(),
+        os("--data"),
+        data.as_os_str().to_owned(),
+        os("--report"),
+        rep.as_os_str().to_owned(),
+    ];
+    let vv: Vec<&std::ffi::OsStr> = v.iter().map(|s| s.as_os_str()).collect();
+    refused(
+        &vv,
+        &["plain.json", "parameters", "'k'", "other.toml"],
+        &rep,
+    );
+    let v = [
+        os("validate"),
+        m.as_os_str().to_owned(),
+        r.as_os_str().to_owned(),
+        os("--experiment"),
+        os("zz"),
+    ];
+    let vv: Vec<&std::ffi::OsStr> = v.iter().map(|s| s.as_os_str()).collect();
+    refused(&vv, &["zz", "campaign.toml"], &rep);
+}
