@@ -264,3 +264,106 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
     let vv: Vec<&std::ffi::OsStr> = v.iter().map(|s| s.as_os_str()).collect();
     refused(&vv, &["zz", "campaign.toml"], &rep);
 }
+
+/// Identifies `model` (a campaign) with the default settings and returns
+/// the worst |estimate − truth| / s.e. over `truth` (name, true value).
+fn worst_deviation(dir: &Path, model: &Path, truth: &[(&str, f64)]) -> f64 {
+    let out = dir.join("per.json");
+    let o = rfeid()
+        .arg("identify")
+        .arg(model)
+        .arg("-o")
+        .arg(&out)
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert!(finished(o.status), "{}", flat(&o.stderr));
+    let v = json(&out);
+    let params = v["parameters"].as_array().unwrap();
+    truth
+        .iter()
+        .map(|(name, value)| {
+            let p = params
+                .iter()
+                .find(|p| p["name"] == *name)
+                .unwrap_or_else(|| panic!("no {name} in {params:?}"));
+            let (est, se) = (
+                p["estimate"].as_f64().unwrap(),
+                p["std_error"].as_f64().unwrap(),
+            );
+            println!("{name}: {est} ± {se} (truth {value})");
+            (est - value).abs() / se
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Simulates experiment `name` with `sets` (NAME=VALUE) into `dir/NAME.csv`.
+fn simulate_with(dir: &Path, model: &Path, name: &str, sets: &[&str], seed: u32) {
+    let mut cmd = rfeid();
+    cmd.arg("simulate")
+        .arg(model)
+        .args(["--experiment", name, "--noise", "0.01", "--seed"])
+        .arg(seed.to_string());
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let st = cmd
+        .arg("-o")
+        .arg(dir.join(format!("{name}.csv")))
+        .arg("-q")
+        .status()
+        .unwrap();
+    assert!(st.success());
+}
+
+/// An excitation gain per experiment (`per_experiment = true`): each
+/// test's amplitude recovered, within 3 standard errors, with k and c.
+#[test]
+fn an_excitation_gain_per_experiment_is_recovered() {
+    let dir = scratch_dir("campaign-gain");
+    let model = campaign_model(
+        &dir,
+        "\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\n\
+         \n[[experiment]]\nname = \"b\"\ndata = \"b.csv\"\n",
+    );
+    let text = std::fs::read_to_string(&model).unwrap().replace(
+        "name = \"P\"\nvalue = 100.0\n",
+        "name = \"P\"\nvalue = 100.0\nmin = 50.0\nmax = 150.0\nper_experiment = true\n",
+    );
+    std::fs::write(&model, text).unwrap();
+    simulate_with(&dir, &model, "a", &["P=80", "k=1.7e5", "c=35"], 1);
+    simulate_with(&dir, &model, "b", &["P=120", "k=1.7e5", "c=35"], 2);
+    let z = worst_deviation(
+        &dir,
+        &model,
+        &[("P[a]", 80.0), ("P[b]", 120.0), ("k", 1.7e5), ("c", 35.0)],
+    );
+    assert!(z <= 3.0, "worst {z:.2} standard errors");
+}
+
+/// A sensor offset per experiment (`offset = "off"` on a sensor): each
+/// test's offset recovered within 3 standard errors.
+#[test]
+fn a_sensor_offset_per_experiment_is_recovered() {
+    let dir = scratch_dir("campaign-offset");
+    let model = campaign_model(
+        &dir,
+        "\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\nset = { P = 100.0 }\n\
+         \n[[experiment]]\nname = \"b\"\ndata = \"b.csv\"\nset = { P = 60.0 }\n\
+         \n[[parameter]]\nname = \"off\"\nvalue = 0.0\nmin = -0.01\nmax = 0.01\nper_experiment = true\n",
+    );
+    let text = std::fs::read_to_string(&model).unwrap().replacen(
+        "quantity = \"displacement\"\n",
+        "quantity = \"displacement\"\noffset = \"off\"\n",
+        1,
+    );
+    std::fs::write(&model, text).unwrap();
+    simulate_with(&dir, &model, "a", &["off=0.002", "k=1.7e5"], 1);
+    simulate_with(&dir, &model, "b", &["off=-0.003", "k=1.7e5"], 2);
+    let z = worst_deviation(
+        &dir,
+        &model,
+        &[("off[a]", 0.002), ("off[b]", -0.003), ("k", 1.7e5)],
+    );
+    assert!(z <= 3.0, "worst {z:.2} standard errors");
+}
