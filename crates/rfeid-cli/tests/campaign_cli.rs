@@ -134,6 +134,23 @@ fn validation_experiment_and_validate_command() {
             assert!((g - r).abs() < 1e-6, "{name}: validate {g} vs identify {r}");
         }
     }
+    // `rfeid report` rebuilds a campaign's report from RESULT.json, with
+    // each experiment's fits.
+    let rep = dir.join("report");
+    let o = rfeid()
+        .arg("report")
+        .arg(&out)
+        .arg("-o")
+        .arg(&rep)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", flat(&o.stderr));
+    let html = std::fs::read_to_string(rep.join("report.html")).unwrap();
+    assert!(
+        html.contains("experiments (fit per sensor"),
+        "no experiment fits"
+    );
+    assert!(html.contains("a (fitted)") && html.contains("v (validation"));
     // Every experiment at once, as a table.
     let o = rfeid()
         .arg("validate")

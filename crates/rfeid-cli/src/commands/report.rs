@@ -26,6 +26,43 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
     };
     let mut plan = Plan::new();
     plan.input(&args.result).report("-o", &args.output);
+    if let (Some(model_path), None, false) = (
+        &result.source.model,
+        &result.source.data,
+        result.experiments.is_empty(),
+    ) {
+        // A campaign: every experiment's data, as the model file names them.
+        let model_path = resolve(model_path);
+        let mut model = load(&model_path)?;
+        fix_parameters(&mut model, &result.source.set)?;
+        plan.input(&model_path);
+        for f in model
+            .files
+            .iter()
+            .chain(model.experiments.iter().map(|x| &x.data))
+        {
+            plan.input(f);
+        }
+        let outputs = plan.check()?;
+        let models: Vec<Model> = (0..model.experiments.len())
+            .map(|e| model.for_experiment(e))
+            .collect();
+        let measured = models
+            .iter()
+            .enumerate()
+            .map(|(e, m)| super::campaign::experiment_data(&model, &model_path, e, m, ui))
+            .collect::<Result<Vec<_>, _>>()?;
+        let title = format!("campaign {}", model_path.display());
+        let files = render_campaign(&model, &models, &result, &measured, &title)?;
+        let mut batch = outputs.batch();
+        batch.report("-o", &files)?;
+        batch.commit()?;
+        ui.note(format!(
+            "report written to {}",
+            args.output.join("report.html").display()
+        ));
+        return Ok(());
+    }
     let (model, measured, reference, title) = match (&result.source.model, &result.source.data) {
         (_, Some(data)) => {
             let model_path = result
