@@ -5,7 +5,7 @@ use super::lm::{LevenbergMarquardt, LmSettings};
 use super::output_error::OutputError;
 use super::plan::{LpTau, Plan, PlanError};
 use super::plan_eval::{evaluate_indices, rank};
-use super::problem::{evaluate_cost, sum_of_squares, LeastSquares};
+use super::problem::{sum_of_squares, LeastSquares};
 pub use super::result::StartFailure;
 use super::result::{
     ExperimentSummary, IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings,
@@ -258,6 +258,14 @@ fn start_search(
     Ok(s)
 }
 
+/// Whether the fit at u passes the verdict's per-sensor checks (fit,
+/// whiteness, noise level); a failed simulation does not.
+fn fit_passes(problem: &OutputError<'_>, settings: &Settings, u: &[f64]) -> bool {
+    problem
+        .simulate_all(u)
+        .is_ok_and(|g| !fit_fails(&fit_signals(problem, Some(&g)), &settings.verdict))
+}
+
 /// What the automatic restarts did.
 #[derive(Debug, Default)]
 struct Restarts {
@@ -294,9 +302,7 @@ fn restart_from_side_minima(
     }
     let mut passes = |u: &[f64]| {
         out.checks += problem.n_experiments();
-        problem
-            .simulate_all(u)
-            .is_ok_and(|g| !fit_fails(&fit_signals(problem, Some(&g)), &settings.verdict))
+        fit_passes(problem, settings, u)
     };
     let mut passed: Vec<bool> = searches.iter().map(|s| passes(&s.u)).collect();
     if passed.iter().any(|&p| p) || searches.is_empty() {
@@ -620,22 +626,26 @@ pub fn finish(
     };
     let (mut searches, mut start_failures) = (searches, start_failures);
     let used: Vec<usize> = starts.iter().map(|&(idx, _)| idx).collect();
-    // The weights first, at the best end: the fit checks that decide on
-    // restarts must judge each sensor at an estimate weighted by its own
-    // noise. With the first weights, a sensor of little signal (a campaign's
-    // low force level) is left underfitted even at the right minimum, and
-    // its residuals fail the checks.
-    let best_end = searches
-        .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.cost.total_cmp(&b.1.cost))
-        .map(|(k, _)| k);
-    if let (Weighting::EstimatedNoise, Start::Plan, true, Some(k)) = (
-        settings.weighting,
-        settings.start,
-        settings.restarts > 0,
-        best_end,
-    ) {
+    // When no end passes the fit checks and the sensors are weighted by
+    // their noise, the weights are estimated at the best end first, and the
+    // other ends searched again with them: with the first weights a sensor
+    // of little signal (a campaign's low force level) is left underfitted
+    // even at the right minimum, and its residuals fail the checks. Only
+    // then do the restarts judge the ends.
+    let reweight = settings.weighting == Weighting::EstimatedNoise
+        && settings.start == Start::Plan
+        && settings.restarts > 0
+        && !searches.is_empty()
+        && {
+            sims += searches.len() * problem.n_experiments();
+            !searches
+                .iter()
+                .any(|s| fit_passes(&problem, settings, &s.u))
+        };
+    if reweight {
+        let k = (0..searches.len())
+            .min_by(|&a, &b| searches[a].cost.total_cmp(&searches[b].cost))
+            .unwrap_or(0);
         let mut counts = (0, 0, 0);
         let end = estimate_weights(
             &mut problem,
@@ -645,16 +655,16 @@ pub fn finish(
             &mut counts,
         )?;
         searches.insert(k, end);
+        for j in (0..searches.len()).filter(|&j| j != k) {
+            let s = local_search(&problem, settings, &searches[j].u, progress)?;
+            counts.0 += s.residual_evals;
+            counts.1 += s.jacobian_evals;
+            counts.2 += s.failed;
+            searches[j] = s;
+        }
         sims += counts.0;
         sims_sens += counts.1;
         failed += counts.2;
-        // The other ends' J under the new weights, so that the ends compare.
-        let mut ws = problem.workspace();
-        let mut r = vec![0.0; problem.n_residuals()];
-        for (_, s) in searches.iter_mut().enumerate().filter(|(j, _)| *j != k) {
-            s.cost = evaluate_cost(&problem, &mut ws, &s.u, &mut r).unwrap_or(f64::INFINITY);
-            sims += 1;
-        }
     }
     let restarted = match settings.start {
         Start::Plan => restart_from_side_minima(
