@@ -45,22 +45,24 @@ fn simulate_experiment(dir: &Path, model: &Path, name: &str, seed: u32) {
     assert!(st.success());
 }
 
-fn json(path: &Path) -> Value {
-    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+/// `rfeid identify MODEL -o OUT -q` with `extra` options, which must
+/// finish; RESULT.json.
+fn identify_campaign(model: &Path, out: &Path, extra: &[&str]) -> Value {
+    let o = rfeid()
+        .arg("identify")
+        .arg(model)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(finished(o.status), "{}", flat(&o.stderr));
+    json(out)
 }
 
-fn estimates(v: &Value) -> Vec<(String, u64)> {
-    v["parameters"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| {
-            (
-                p["name"].as_str().unwrap().to_string(),
-                p["estimate"].as_f64().unwrap().to_bits(),
-            )
-        })
-        .collect()
+fn json(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
 }
 
 /// A validation experiment changes nothing in the fit (estimates bit for
@@ -75,15 +77,7 @@ fn validation_experiment_and_validate_command() {
         simulate_experiment(&dir, &model, name, k as u32 + 1);
     }
     let out = dir.join("r.json");
-    let st = rfeid()
-        .arg("identify")
-        .arg(&model)
-        .arg("-o")
-        .arg(&out)
-        .args(["--plan", "20", "-q"])
-        .status()
-        .unwrap();
-    assert!(finished(st), "{st:?}");
+    identify_campaign(&model, &out, &["--plan", "20"]);
     let with_v = json(&out);
     let fitted_only = campaign_model_as(
         &dir,
@@ -91,16 +85,8 @@ fn validation_experiment_and_validate_command() {
         "fitted.toml",
     );
     let out2 = dir.join("r2.json");
-    let st = rfeid()
-        .arg("identify")
-        .arg(&fitted_only)
-        .arg("-o")
-        .arg(&out2)
-        .args(["--plan", "20", "-q"])
-        .status()
-        .unwrap();
-    assert!(finished(st));
-    assert_eq!(estimates(&with_v), estimates(&json(&out2)));
+    identify_campaign(&fitted_only, &out2, &["--plan", "20"]);
+    assert_eq!(estimate_bits(&with_v), estimate_bits(&json(&out2)));
     let experiments = with_v["experiments"].as_array().unwrap();
     let v = experiments.iter().find(|e| e["name"] == "v").unwrap();
     assert_eq!(v["role"], "validation");
@@ -286,16 +272,7 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
 /// the worst |estimate − truth| / s.e. over `truth` (name, true value).
 fn worst_deviation(dir: &Path, model: &Path, truth: &[(&str, f64)]) -> f64 {
     let out = dir.join("per.json");
-    let o = rfeid()
-        .arg("identify")
-        .arg(model)
-        .arg("-o")
-        .arg(&out)
-        .arg("-q")
-        .output()
-        .unwrap();
-    assert!(finished(o.status), "{}", flat(&o.stderr));
-    let v = json(&out);
+    let v = identify_campaign(model, &out, &[]);
     let params = v["parameters"].as_array().unwrap();
     truth
         .iter()

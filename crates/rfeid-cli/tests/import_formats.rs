@@ -1,5 +1,7 @@
 //! `rfeid identify --data` with CSV, MAT and UFF files of the same signals
 //! gives the same estimates; a damaged file is bad input (exit 2, no output).
+mod support;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -64,17 +66,7 @@ fn estimates(data: &Path) -> Vec<(String, u64)> {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    v["parameters"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| {
-            (
-                p["name"].as_str().unwrap().to_string(),
-                p["estimate"].as_f64().unwrap().to_bits(),
-            )
-        })
-        .collect()
+    support::estimate_bits(&v)
 }
 
 #[test]

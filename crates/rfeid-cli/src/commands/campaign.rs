@@ -46,14 +46,7 @@ pub fn run(args: &IdentifyArgs, model: &Model, ui: &Ui) -> Result<(), Failure> {
     }
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
-    let models: Vec<Model> = (0..model.experiments.len())
-        .map(|e| model.for_experiment(e))
-        .collect();
-    let measured = models
-        .iter()
-        .enumerate()
-        .map(|(e, m)| experiment_data(model, &args.model, e, m, ui))
-        .collect::<Result<Vec<_>, _>>()?;
+    let (models, measured) = campaign_data(model, &args.model, ui)?;
     let result = fit(args, model, &models, &measured, ui)?;
     let mut batch = outputs.batch();
     if args.report.is_some() {
@@ -216,6 +209,23 @@ fn check_exists(model: &Model, path: &Path, x: &rfeid::model::Experiment) -> Res
         )));
     }
     Ok(())
+}
+
+/// Every experiment's model (its settings applied) and measured data.
+pub fn campaign_data(
+    model: &Model,
+    path: &Path,
+    ui: &Ui,
+) -> Result<(Vec<Model>, Vec<Response>), Failure> {
+    let models: Vec<Model> = (0..model.experiments.len())
+        .map(|e| model.for_experiment(e))
+        .collect();
+    let measured = models
+        .iter()
+        .enumerate()
+        .map(|(e, m)| experiment_data(model, path, e, m, ui))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((models, measured))
 }
 
 /// Experiment e's measured data on its model `m`'s sensors and sampling;

@@ -44,14 +44,7 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
             plan.input(f);
         }
         let outputs = plan.check()?;
-        let models: Vec<Model> = (0..model.experiments.len())
-            .map(|e| model.for_experiment(e))
-            .collect();
-        let measured = models
-            .iter()
-            .enumerate()
-            .map(|(e, m)| super::campaign::experiment_data(&model, &model_path, e, m, ui))
-            .collect::<Result<Vec<_>, _>>()?;
+        let (models, measured) = super::campaign::campaign_data(&model, &model_path, ui)?;
         let title = format!("campaign {}", model_path.display());
         let files = render_campaign(&model, &models, &result, &measured, &title)?;
         let mut batch = outputs.batch();

@@ -114,3 +114,18 @@ pub fn flat(stderr: &[u8]) -> String {
 pub fn finished(status: std::process::ExitStatus) -> bool {
     matches!(status.code(), Some(0) | Some(3))
 }
+
+/// Each estimate of a RESULT.json, by name, as bits (for exact comparisons).
+pub fn estimate_bits(result: &serde_json::Value) -> Vec<(String, u64)> {
+    result["parameters"]
+        .as_array()
+        .expect("parameters")
+        .iter()
+        .map(|p| {
+            (
+                p["name"].as_str().unwrap().to_string(),
+                p["estimate"].as_f64().unwrap().to_bits(),
+            )
+        })
+        .collect()
+}

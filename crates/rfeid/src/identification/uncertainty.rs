@@ -301,33 +301,11 @@ fn analyse(
     settings: &UncertaintySettings,
 ) -> Result<CramerRao, UncertaintyError> {
     let (n_obs, r) = h.shape();
-    if r == 0 {
-        return Err(UncertaintyError::NoParameters);
-    }
-    if n_obs <= r + 1 {
-        return Err(UncertaintyError::TooFewObservations {
-            n_observations: n_obs,
-            n_parameters: r,
-        });
-    }
-    if !(ssr.is_finite() && ssr >= 0.0) {
-        return Err(UncertaintyError::InvalidSsr { ssr });
-    }
+    check_inputs(h, n_obs, ssr)?;
     check_widths(r, box_widths)?;
-    for (column, col) in h.column_iter().enumerate() {
-        if let Some(row) = col.iter().position(|v| !v.is_finite()) {
-            return Err(UncertaintyError::NonFiniteJacobian { row, column });
-        }
-    }
     // Column scaling H = H_s C.
     let norms: Vec<f64> = h.column_iter().map(|c| c.norm()).collect();
-    let zero: Vec<usize> = (0..r).filter(|&j| norms[j] == 0.0).collect();
-    if !zero.is_empty() {
-        return Err(UncertaintyError::Singular {
-            parameters: zero,
-            condition_number: f64::INFINITY,
-        });
-    }
+    check_no_zero_column(&norms)?;
     let mut hs = h.clone();
     for (j, mut col) in hs.column_iter_mut().enumerate() {
         col /= norms[j];
@@ -351,10 +329,26 @@ pub fn cramer_rao_blocked(
     let r = qr.n_cols();
     check_widths(r, Some(box_widths))?;
     check_widths(r, Some(dx_du))?;
+    let n_obs = qr.rows();
+    check_inputs(qr.r(), n_obs, ssr)?;
+    let norms = qr.column_norms();
+    check_no_zero_column(&norms)?;
+    let mut rs = qr.r().clone();
+    for (j, mut col) in rs.column_iter_mut().enumerate() {
+        col /= norms[j];
+    }
+    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
+    from_scaled_factor(rs, &norms, n_obs, &factors, ssr, Some(box_widths), settings)
+}
+
+/// What the bounds need of a Jacobian `m` (or its triangular factor) with
+/// `n_obs` rows in all: parameters, more observations than r + 1 (eq. 29),
+/// a finite SSR ≥ 0 and finite entries.
+fn check_inputs(m: &DMatrix<f64>, n_obs: usize, ssr: f64) -> Result<(), UncertaintyError> {
+    let r = m.ncols();
     if r == 0 {
         return Err(UncertaintyError::NoParameters);
     }
-    let n_obs = qr.rows();
     if n_obs <= r + 1 {
         return Err(UncertaintyError::TooFewObservations {
             n_observations: n_obs,
@@ -364,25 +358,25 @@ pub fn cramer_rao_blocked(
     if !(ssr.is_finite() && ssr >= 0.0) {
         return Err(UncertaintyError::InvalidSsr { ssr });
     }
-    for (column, col) in qr.r().column_iter().enumerate() {
+    for (column, col) in m.column_iter().enumerate() {
         if let Some(row) = col.iter().position(|v| !v.is_finite()) {
             return Err(UncertaintyError::NonFiniteJacobian { row, column });
         }
     }
-    let norms = qr.column_norms();
-    let zero: Vec<usize> = (0..r).filter(|&j| norms[j] == 0.0).collect();
-    if !zero.is_empty() {
-        return Err(UncertaintyError::Singular {
+    Ok(())
+}
+
+/// A parameter whose Jacobian column is zero cannot be identified.
+fn check_no_zero_column(norms: &[f64]) -> Result<(), UncertaintyError> {
+    let zero: Vec<usize> = (0..norms.len()).filter(|&j| norms[j] == 0.0).collect();
+    if zero.is_empty() {
+        Ok(())
+    } else {
+        Err(UncertaintyError::Singular {
             parameters: zero,
             condition_number: f64::INFINITY,
-        });
+        })
     }
-    let mut rs = qr.r().clone();
-    for (j, mut col) in rs.column_iter_mut().enumerate() {
-        col /= norms[j];
-    }
-    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
-    from_scaled_factor(rs, &norms, n_obs, &factors, ssr, Some(box_widths), settings)
 }
 
 /// The analysis from `rs`, the triangular factor of the column-scaled
