@@ -32,17 +32,7 @@ const THREE: &str = "\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\nset = { P
 
 /// Simulates experiment `name` of `model` into `dir/NAME.csv`, 1 % noise.
 fn simulate_experiment(dir: &Path, model: &Path, name: &str, seed: u32) {
-    let st = rfeid()
-        .arg("simulate")
-        .arg(model)
-        .args(["--experiment", name, "--noise", "0.01", "--seed"])
-        .arg(seed.to_string())
-        .arg("-o")
-        .arg(dir.join(format!("{name}.csv")))
-        .arg("-q")
-        .status()
-        .unwrap();
-    assert!(st.success());
+    simulate_with(dir, model, name, &[], seed);
 }
 
 /// `rfeid identify MODEL -o OUT -q` with `extra` options, which must
