@@ -4,7 +4,8 @@
 mod problems;
 
 use problems::{
-    exp_decay, linear, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX, EXP_TRUE,
+    exp_decay, linear, noisy_exp_decay, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX,
+    EXP_TRUE,
 };
 use rfeid::identification::lm::{LevenbergMarquardt, LmSettings};
 use rfeid::identification::problem::EvalError;
@@ -216,4 +217,40 @@ fn lm_finds_a_constrained_optimum_on_a_face() {
         );
         assert!(result.iterations <= 10);
     }
+}
+
+/// Convergence in standard errors (`LmSettings::with_decrement_tolerance`):
+/// on noisy data the default search stops once the Gauss–Newton step would
+/// lower J by less than 0.05 residual variances, which puts it within
+/// √0.05 ≈ 0.22 standard errors (eq. 26's metric) of the minimum that a
+/// search with the test off polishes to the other tolerances.
+#[test]
+fn lm_stops_within_a_fraction_of_a_standard_error_on_noisy_data() {
+    let problem = noisy_exp_decay(0.05);
+    let u0 = [0.9, 0.05];
+    let fast = LevenbergMarquardt::default()
+        .minimize(&problem, &u0)
+        .unwrap();
+    report("noisy exp decay, default", &fast);
+    let off = LmSettings::default()
+        .with_decrement_tolerance(f64::MIN_POSITIVE)
+        .unwrap();
+    let tight = LevenbergMarquardt::new(off)
+        .minimize(&problem, &u0)
+        .unwrap();
+    report("noisy exp decay, test off", &tight);
+    assert_eq!(fast.stop_reason, StopReason::ConvergedDecrement);
+    assert!(fast.stop_reason.is_converged());
+    assert!(
+        tight.stop_reason.is_converged() && tight.stop_reason != StopReason::ConvergedDecrement
+    );
+    let s2 = tight.cost / (problem.m - problem.n) as f64;
+    let d = nalgebra::DVector::from_iterator(2, fast.u.iter().zip(&tight.u).map(|(a, b)| a - b));
+    let distance2 = (&tight.jacobian * d).norm_squared() / s2;
+    eprintln!(
+        "distance² {distance2:.3e} standard errors², {} against {} iterations",
+        fast.iterations, tight.iterations
+    );
+    assert!(distance2 <= 0.05, "{distance2}");
+    assert!(fast.iterations < tight.iterations);
 }

@@ -10,7 +10,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use rfeid::identification::bfgs::Bfgs;
-use rfeid::identification::lm::LevenbergMarquardt;
+use rfeid::identification::lm::{LevenbergMarquardt, LmSettings};
 use rfeid::identification::plan::lp_tau_plan;
 use rfeid::identification::plan_eval::evaluate_plan;
 use rfeid::identification::problem::LeastSquares;
@@ -105,7 +105,15 @@ fn plan_lm_and_cramer_rao_recover_the_parameters() {
             );
             assert!(z.abs() < 3.0);
         }
-        // BFGS from the same point finds the same minimum.
+        // BFGS from the same point finds the same minimum as LM polished to
+        // its other tolerances (the default LM stops within 0.22 standard
+        // errors of it, `LmSettings::with_decrement_tolerance`).
+        let polish = LmSettings::default()
+            .with_decrement_tolerance(f64::MIN_POSITIVE)
+            .unwrap();
+        let lm = LevenbergMarquardt::new(polish)
+            .minimize(&problem, plan.point(best))
+            .unwrap();
         let bfgs = Bfgs::default()
             .minimize(&problem, plan.point(best))
             .unwrap();

@@ -19,11 +19,17 @@
 //!    `max_{j∈F} |J_jᵀ r| / (‖J_j‖ ‖r‖) ≤ gradient_tolerance` (the cosine of
 //!    the angle between the residual and each free column, as in MINPACK; it
 //!    does not depend on the units of J or u).
-//! 3. **Damped step** (see `lm_step`): δ minimises
+//! 3. **Convergence in standard errors**: stop if the undamped
+//!    Gauss–Newton step would lower J by at most `decrement_tolerance`
+//!    residual variances `s² = J/(N − f)`: the point is then within
+//!    `√decrement_tolerance` standard errors (eq. 26) of the minimum of the
+//!    linearised problem. Steps smaller than that do not change the
+//!    estimate in any way its uncertainty could show.
+//! 4. **Damped step** (see `lm_step`): δ minimises
 //!    `‖J_F δ + r‖² + λ ‖D_F δ‖²`, with the Marquardt scaling D the running
 //!    maximum of the column norms (Moré 1978), solved by QR without forming
 //!    JᵀJ. The trial point `clamp(u + δ)` is projected onto the box.
-//! 4. **Acceptance.** The trial is accepted iff J decreases; λ then shrinks
+//! 5. **Acceptance.** The trial is accepted iff J decreases; λ then shrinks
 //!    by `max(1/3, 1 − (2ρ − 1)³)`, ρ the ratio of actual to predicted
 //!    decrease (Nielsen 1999). A rejected trial, or one whose evaluation
 //!    failed (`Err`, J = +∞), multiplies λ by ν and doubles ν, and the step
@@ -35,7 +41,8 @@
 //!
 //! # Stopping
 //!
-//! See [`StopReason`]: converged on the gradient (step 2), on the step
+//! See [`StopReason`]: converged on the gradient (step 2), in standard
+//! errors (step 3), on the step
 //! (`‖u⁺ − u‖₂ ≤ step_tolerance (‖u‖₂ + step_tolerance)`), on the cost (actual
 //! and predicted relative decrease both `≤ cost_tolerance`, or J = 0), the
 //! iteration limit, no progress (λ beyond `max_damping`), or evaluation
@@ -65,6 +72,7 @@ pub struct LmSettings {
     gradient_tolerance: f64,
     initial_damping: f64,
     max_damping: f64,
+    decrement_tolerance: f64,
 }
 
 impl Default for LmSettings {
@@ -72,7 +80,8 @@ impl Default for LmSettings {
     /// coordinates); `cost_tolerance` 1e-12 (relative decrease of J);
     /// `gradient_tolerance` 1e-12 (cosine measure); `initial_damping` 1e-3
     /// (relative to the scaled `JᵀJ`, whose diagonal is ≤ 1); `max_damping`
-    /// 1e16.
+    /// 1e16; `decrement_tolerance` 1e-2 (within 0.1 standard error of the
+    /// minimum).
     fn default() -> Self {
         LmSettings {
             max_iterations: 100,
@@ -81,6 +90,7 @@ impl Default for LmSettings {
             gradient_tolerance: 1e-12,
             initial_damping: 1e-3,
             max_damping: 1e16,
+            decrement_tolerance: 5e-2,
         }
     }
 }
@@ -119,6 +129,19 @@ impl LmSettings {
         self.check_damping_order()?;
         Ok(self)
     }
+    /// Statistical convergence (> 0): stop when the undamped Gauss–Newton
+    /// step would lower J by at most this multiple of the residual variance
+    /// `s² = J/(N − f)` (f free variables). The Gauss–Newton step's length
+    /// in the metric of the Cramér–Rao covariance (eq. 26, `s²(JᵀJ)⁻¹`) is
+    /// `√(decrement/s²)`, so the point is then within `√tolerance`
+    /// standard errors of the minimum of the linearised problem, in every
+    /// direction. Only with at least 30 degrees of freedom `N − f`. On a
+    /// zero-residual problem the ratio grows as J falls and
+    /// the test never fires; the other tolerances stop the search there.
+    pub fn with_decrement_tolerance(mut self, value: f64) -> Result<Self, SettingsError> {
+        self.decrement_tolerance = positive("decrement_tolerance", value)?;
+        Ok(self)
+    }
     fn check_damping_order(&self) -> Result<(), SettingsError> {
         if self.max_damping > self.initial_damping {
             Ok(())
@@ -154,6 +177,10 @@ impl LmSettings {
     /// Maximal damping.
     pub fn max_damping(&self) -> f64 {
         self.max_damping
+    }
+    /// Statistical convergence tolerance on the Gauss–Newton decrement.
+    pub fn decrement_tolerance(&self) -> f64 {
+        self.decrement_tolerance
     }
 }
 
@@ -307,6 +334,9 @@ impl LevenbergMarquardt {
             }
             iterations += 1;
             let solver = DampedSolver::new(&cur.jac, &cur.r, &free, &scale);
+            if converged_decrement(s.decrement_tolerance, &solver, cur.cost, m, free.len()) {
+                break StopReason::ConvergedDecrement;
+            }
             let inner = self.inner_loop(
                 problem, &mut ws, &solver, &free, &g, &mut cur, &mut trial, &mut run,
             );
@@ -454,6 +484,25 @@ impl LevenbergMarquardt {
             return Inner::Accepted(pending);
         }
     }
+}
+
+/// Fewest degrees of freedom `N − f` for which the residual variance is
+/// estimated well enough (±26 %, `√(2/30)`) to stop on it.
+const MIN_DEGREES_OF_FREEDOM: usize = 30;
+
+/// Whether the Gauss–Newton decrement at the current point is within
+/// `tolerance` residual variances ([`LmSettings::with_decrement_tolerance`]);
+/// never with fewer than [`MIN_DEGREES_OF_FREEDOM`] (a small problem such as
+/// an algebraic test has no residual variance to speak of).
+fn converged_decrement(
+    tolerance: f64,
+    solver: &DampedSolver,
+    cost: f64,
+    residuals: usize,
+    free: usize,
+) -> bool {
+    let dof = residuals.saturating_sub(free);
+    dof >= MIN_DEGREES_OF_FREEDOM && solver.decrement() <= tolerance * cost / dof as f64
 }
 
 /// Counters and damping of one run.

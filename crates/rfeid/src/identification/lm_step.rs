@@ -48,6 +48,13 @@ impl DampedSolver {
         }
     }
 
+    /// The Gauss–Newton decrement `‖Q₁ᵀ r‖²`: the decrease of J that the
+    /// undamped step would give if the residuals were linear in u (the
+    /// squared norm of the part of r in the span of J_F's columns).
+    pub(crate) fn decrement(&self) -> f64 {
+        self.rhs.norm_squared()
+    }
+
     /// The step δ_F for damping `lambda` > 0, or `None` if the damped system
     /// is numerically singular or the step is not finite.
     pub(crate) fn step(&self, lambda: f64) -> Option<DVector<f64>> {

@@ -245,7 +245,18 @@ fn start_search(
     sim.set_steps(problem.simulator().steps());
     let mut window = OutputError::new(sim, truncated, first);
     window.set_weights(&problem.weights());
-    let (u1, pre) = match local_search(&window, settings, u0, progress) {
+    // The window only has to bring the search into the whole record's
+    // basin: stop once the Gauss–Newton step would gain less than r residual
+    // variances there, the expected scatter of the window's own minimum
+    // about the truth (a χ² with r degrees of freedom), instead of
+    // polishing a minimum the whole record moves anyway.
+    let mut window_settings = settings.clone();
+    window_settings.lm = settings
+        .lm
+        .clone()
+        .with_decrement_tolerance(r as f64)
+        .unwrap_or_else(|_| settings.lm.clone());
+    let (u1, pre) = match local_search(&window, &window_settings, u0, progress) {
         Ok(s) => (s.u.clone(), Some(s)),
         Err(_) => (u0.to_vec(), None),
     };

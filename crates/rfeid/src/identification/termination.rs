@@ -20,6 +20,11 @@ pub enum StopReason {
     ConvergedCost,
     /// The projected gradient of J is below the gradient tolerance.
     ConvergedGradient,
+    /// The undamped Gauss–Newton step would lower J by less than the
+    /// decrement tolerance times the residual variance: the point is within
+    /// a small fraction of a standard error of the minimum (Levenberg–
+    /// Marquardt only).
+    ConvergedDecrement,
     /// The iteration limit was reached.
     MaxIterations,
     /// No step decreased J: Levenberg–Marquardt rejected a step at the
@@ -39,7 +44,10 @@ impl StopReason {
     pub fn is_converged(self) -> bool {
         matches!(
             self,
-            StopReason::ConvergedStep | StopReason::ConvergedCost | StopReason::ConvergedGradient
+            StopReason::ConvergedStep
+                | StopReason::ConvergedCost
+                | StopReason::ConvergedGradient
+                | StopReason::ConvergedDecrement
         )
     }
 }
@@ -53,6 +61,10 @@ impl fmt::Display for StopReason {
             }
             StopReason::ConvergedGradient => {
                 "converged: the projected gradient is below the gradient tolerance"
+            }
+            StopReason::ConvergedDecrement => {
+                "converged: the estimate is within a small fraction of a standard error of the \
+                 minimum (Gauss–Newton decrement below its tolerance)"
             }
             StopReason::MaxIterations => "stopped: the iteration limit was reached",
             StopReason::NoProgress => "stopped: no step could decrease the criterion",
