@@ -1,4 +1,4 @@
-//! Sensitivities to many parameters are integrated in fixed groups of
+//! Sensitivities to many parameters are integrated in groups of
 //! columns in parallel (issue 12, `simulation::columns`): the result does
 //! not depend on the number of threads, nor on the grouping, bit for bit.
 mod common;
@@ -55,5 +55,21 @@ fn many_sensitivities_are_identical_for_any_thread_count_and_grouping() {
                 "columns {cols:?} differ at row {row}"
             );
         }
+    }
+}
+
+#[test]
+fn sixteen_sensitivities_split_over_two_threads_are_identical() {
+    // 16 columns: one run of 16 on one thread, two groups of 8 on two, and
+    // four groups of 4 on four (`simulation::columns::group_size`).
+    let text = machine_tool::machine_tool_toml(10, 16).replace("\"0.3 s\"", "\"0.05 s\"");
+    let model = model(&text);
+    let wrt = model.identified();
+    assert_eq!(wrt.len(), 16);
+    let sim = Simulator::new(&model);
+    let one = in_pool(1, || run(&sim, &model, &wrt));
+    for threads in [2, 4] {
+        let many = in_pool(threads, || run(&sim, &model, &wrt));
+        assert!(one == many, "{threads} threads differ from one");
     }
 }

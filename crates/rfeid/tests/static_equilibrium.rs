@@ -258,3 +258,63 @@ fn power_law_support_sinks_by_the_root_of_mg_over_a() {
         );
     }
 }
+
+/// A stack of `n` bodies (listed out of order, so that the solver's
+/// ordering has work to do), each on the one below through a power-law
+/// support at the common centre of mass, the lowest on the ground; the top
+/// one is "table".
+fn power_stack(n: usize, a: f64, m: f64) -> String {
+    let name = |i: usize| match i {
+        0 => "ground".to_string(),
+        i if i == n => "table".to_string(),
+        i => format!("b{i}"),
+    };
+    let mut s = format!(
+        "gravity = [0, 0, -{G:e}]\n\n[simulation]\nduration = 0.1\nsample_rate = 1000.0\n{SENSORS}"
+    );
+    for i in (1..=n).map(|k| (k * 5) % n + 1) {
+        s += &format!(
+            "\n[[body]]\nname = \"{}\"\nmass = {MASS:e}\ninertia = [4.0, 5.0, 7.0]\ncom = [0.0, 0.0, 0.0]\n",
+            name(i)
+        );
+    }
+    for i in 1..=n {
+        s += &format!(
+            "\n[[element]]\nname = \"support{i}\"\nbody = \"{}\"\nto = \"{}\"\nat = [0.0, 0.0, 0.0]\n\
+             ux = {{ k = 1e6 }}\nuy = {{ k = 1e6 }}\nuz = {{ law = \"power\", a = {a:e}, m = {m:e}, c = 100.0 }}\n\
+             rx = {{ k = 1e5 }}\nry = {{ k = 1e5 }}\nrz = {{ k = 1e5 }}\n",
+            name(i),
+            name(i - 1)
+        );
+    }
+    s
+}
+
+/// Seven bodies (42 coordinates: the large-model factorisation of the
+/// tangent stiffness, `simulation::envelope`): support i carries the
+/// bodies above it, `(n − i + 1) M g = a δ_i^m`, and body i sinks by
+/// `Σ_{j ≤ i} δ_j`.
+#[test]
+fn a_stack_of_power_law_supports_sinks_support_by_support() {
+    let (n, a, m) = (7, 4.0e12, 1.5);
+    let model = model(&power_stack(n, a, m));
+    let eq = equilibrium(&model);
+    let mut sink = 0.0;
+    let mut expected = vec![0.0; 6 * n];
+    for i in 1..=n {
+        sink += ((n - i + 1) as f64 * MASS * G / a).powf(1.0 / m);
+        let name = if i == n {
+            "table".into()
+        } else {
+            format!("b{i}")
+        };
+        let body = model.bodies.iter().position(|b| b.name == name).unwrap();
+        expected[6 * body + 2] = -sink;
+    }
+    let err = rel_max_err(&eq.q, &expected);
+    println!(
+        "stack of {n}: top sinks {sink:e} m, error {err:.2e}, {} Newton iterations",
+        eq.iterations
+    );
+    assert_within("q", err, 1e-12);
+}

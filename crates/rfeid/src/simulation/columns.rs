@@ -3,18 +3,30 @@
 //! The columns of the sensitivity equation (eq. 27–28) are independent of
 //! one another given the state: each goes through the same operations
 //! whichever columns share its run (`tangent`, `sparse_tangent`). So the
-//! parameters are split into fixed groups of [`COLUMN_GROUP`], in order,
-//! and each group is integrated with its own copy of the state on the
-//! current rayon pool. The groups do not depend on the number of threads,
-//! so neither do the results, bit for bit; each group costs one extra
-//! integration of the state, a small part of its 16 columns.
+//! parameters are split into groups, in order, and each group is integrated
+//! with its own copy of the state on the current rayon pool. A group holds
+//! at most [`COLUMN_GROUP`] columns, and there are at least as many groups
+//! as threads when the columns allow ([`group_size`]): each group costs one
+//! extra integration of the state, a small part of its columns, and keeps
+//! a thread busy. Since no column depends on its group, the results do not
+//! depend on the number of threads, bit for bit
+//! (`tests/sensitivity_threads.rs`).
 use super::run::{Response, Simulator};
 use super::stepper::Workspace;
 use super::SimulationError;
 use rayon::prelude::*;
 
-/// Parameters per group: up to this many are integrated in one run.
+/// The most parameters integrated in one run.
 pub const COLUMN_GROUP: usize = 16;
+
+/// Columns per group for `r` columns on `threads` threads: one group per
+/// thread, in multiples of four (the kernels' SIMD width), from 4 to
+/// [`COLUMN_GROUP`].
+pub fn group_size(r: usize, threads: usize) -> usize {
+    r.div_ceil(threads.max(1))
+        .next_multiple_of(4)
+        .clamp(4, COLUMN_GROUP)
+}
 
 /// The buffers of one group, kept in the caller's [`Workspace`].
 #[derive(Debug, Clone, Default)]
@@ -26,22 +38,22 @@ pub struct GroupBuffers {
 
 impl Simulator<'_> {
     /// The response at `params` into `out` and the sensitivities to `wrt`
-    /// (more than [`COLUMN_GROUP`] parameters) into `values` (observation ×
-    /// parameter, row-major, already sized), group by group in parallel.
+    /// into `values` (observation × parameter, row-major, already sized),
+    /// in groups of `size` columns in parallel.
     pub(crate) fn integrate_groups(
         &self,
         params: &[f64],
-        wrt: &[usize],
+        (wrt, size): (&[usize], usize),
         groups: &mut Vec<GroupBuffers>,
         out: &mut Response,
         values: &mut [f64],
     ) -> Result<(), SimulationError> {
         let rows = self.model().sensors.len() * self.model().sampling.n_samples();
-        let count = wrt.len().div_ceil(COLUMN_GROUP);
+        let count = wrt.len().div_ceil(size);
         groups.resize_with(count, GroupBuffers::default);
         groups
             .par_iter_mut()
-            .zip(wrt.par_chunks(COLUMN_GROUP))
+            .zip(wrt.par_chunks(size))
             .try_for_each(|(g, cols)| {
                 let out = g.out.get_or_insert_with(|| self.response_buffer());
                 g.sens.clear();
@@ -50,7 +62,7 @@ impl Simulator<'_> {
             })?;
         let r = wrt.len();
         for (i, g) in groups.iter().enumerate() {
-            let (c0, w) = (i * COLUMN_GROUP, g.sens.len() / rows.max(1));
+            let (c0, w) = (i * size, g.sens.len() / rows.max(1));
             for (dst, src) in values.chunks_exact_mut(r).zip(g.sens.chunks_exact(w)) {
                 dst[c0..c0 + w].copy_from_slice(src);
             }

@@ -5,10 +5,53 @@
 //! `K_t = ∂R/∂q`. A power-law spring has zero slope at δ = 0, so `K_t(0)` may
 //! be singular; the iteration then starts with Levenberg damping. The
 //! sensitivities follow from `K_t ∂q/∂x = −∂R/∂x`.
+use super::envelope::{EnvelopeCholesky, Ordering};
 use super::structure::Usage;
 use super::system::{power_law, System};
 use super::SimulationError;
 use nalgebra::{DMatrix, DVector};
+
+/// Models up to this many coordinates (four bodies) solve with a dense LU;
+/// larger ones with the envelope Cholesky factorisation (`envelope`), whose
+/// cost grows with the coupling of the bodies rather than as n³.
+const DENSE_UP_TO: usize = 24;
+
+/// A factorisation of the tangent stiffness.
+enum Factor<'o> {
+    /// Dense LU with partial pivoting.
+    Dense(nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    /// Envelope Cholesky (symmetric positive definite).
+    Envelope(EnvelopeCholesky<'o>),
+}
+
+impl<'o> Factor<'o> {
+    /// Factorises the row-major `n × n` matrix `a`: in its envelope if an
+    /// ordering is given and `a` is positive definite, else by dense LU.
+    fn new(n: usize, a: &[f64], ordering: Option<&'o Ordering>) -> Option<Factor<'o>> {
+        if let Some(c) = ordering.and_then(|o| EnvelopeCholesky::factor(o, a)) {
+            return Some(Factor::Envelope(c));
+        }
+        Some(Factor::Dense(DMatrix::from_row_slice(n, n, a).lu()))
+    }
+
+    /// Solves `A x = b` in place; false if A is singular.
+    fn solve(&self, b: &mut [f64]) -> bool {
+        match self {
+            Factor::Envelope(c) => {
+                c.solve(b);
+                b.iter().all(|v| v.is_finite())
+            }
+            Factor::Dense(lu) => {
+                let mut x = DVector::from_column_slice(b);
+                if !lu.solve_mut(&mut x) {
+                    return false;
+                }
+                b.copy_from_slice(x.as_slice());
+                b.iter().all(|v| v.is_finite())
+            }
+        }
+    }
+}
 
 /// A static equilibrium and its sensitivities.
 #[derive(Debug, Clone)]
@@ -44,6 +87,10 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
     let weight_norm = (0..n)
         .map(|i| (sys.minv_gravity[i] / sys.minv[i]).abs())
         .fold(0.0, f64::max);
+    let ordering = (n > DENSE_UP_TO).then(|| {
+        let rows: Vec<Vec<usize>> = sys.power.iter().map(|p| p.row.coordinates()).collect();
+        Ordering::new(n, &sys.tangent_stiffness(&vec![0.0; n]), &rows)
+    });
     let mut q = vec![0.0; n];
     let mut res = residual(sys, &q);
     let tol = 1e-13 * weight_norm.max(f64::MIN_POSITIVE);
@@ -59,16 +106,18 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
                 ),
             });
         }
-        let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
-        let scale = kt.diagonal().amax().max(f64::MIN_POSITIVE);
+        let mut kt = sys.tangent_stiffness(&q);
+        let scale = (0..n).map(|i| kt[i * n + i].abs()).fold(0.0_f64, f64::max);
+        let scale = scale.max(f64::MIN_POSITIVE);
+        let diagonal: Vec<f64> = (0..n).map(|i| kt[i * n + i]).collect();
         let mut accepted = false;
         for _ in 0..60 {
-            let mut a = kt.clone();
             for i in 0..n {
-                a[(i, i)] += mu * scale;
+                kt[i * n + i] = diagonal[i] + mu * scale;
             }
-            if let Some(step) = a.lu().solve(&(-&res)) {
-                let trial: Vec<f64> = q.iter().zip(step.iter()).map(|(q, s)| q + s).collect();
+            let mut step: Vec<f64> = res.iter().map(|v| -v).collect();
+            if Factor::new(n, &kt, ordering.as_ref()).is_some_and(|f| f.solve(&mut step)) {
+                let trial: Vec<f64> = q.iter().zip(&step).map(|(q, s)| q + s).collect();
                 let tres = residual(sys, &trial);
                 if tres.norm() < res.norm() && tres.iter().all(|v| v.is_finite()) {
                     q = trial;
@@ -93,22 +142,27 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
     let r = wrt.len();
     let mut dq = vec![0.0; n * r];
     if r > 0 {
-        let kt = DMatrix::from_row_slice(n, n, &sys.tangent_stiffness(&q));
-        let lu = kt.lu();
+        let kt = sys.tangent_stiffness(&q);
+        let singular = || SimulationError::NoEquilibrium {
+            reason: "the tangent stiffness at equilibrium is singular".into(),
+        };
+        let factor = Factor::new(n, &kt, ordering.as_ref()).ok_or_else(singular)?;
         let mut rhs = DMatrix::zeros(n, r);
         for (col, &p) in wrt.iter().enumerate() {
             for usage in &sys.structure.usages[p] {
                 explicit(sys, *usage, &q, &mut rhs, col);
             }
         }
-        let sol = lu
-            .solve(&(-rhs))
-            .ok_or_else(|| SimulationError::NoEquilibrium {
-                reason: "the tangent stiffness at equilibrium is singular".into(),
-            })?;
-        for i in 0..n {
-            for j in 0..r {
-                dq[i * r + j] = sol[(i, j)];
+        let mut x = vec![0.0; n];
+        for j in 0..r {
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi = -rhs[(i, j)];
+            }
+            if !factor.solve(&mut x) {
+                return Err(singular());
+            }
+            for (i, xi) in x.iter().enumerate() {
+                dq[i * r + j] = *xi;
             }
         }
     }

@@ -4,6 +4,7 @@ pub mod aliasing;
 mod calibration;
 mod columns;
 mod dim;
+mod envelope;
 pub mod equilibrium;
 mod madd;
 pub mod modal;

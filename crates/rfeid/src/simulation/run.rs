@@ -22,7 +22,7 @@
 //! for the model's fastest mode (ωh beyond DOP853's stability limit, about 3
 //! for damped modes) ends in [`SimulationError::Diverged`], which names that
 //! mode, never a hang.
-use super::columns::COLUMN_GROUP;
+use super::columns::group_size;
 use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
 use super::madd::{Fused, Madd, Separate};
@@ -263,9 +263,11 @@ impl<'m> Simulator<'m> {
         // of another shape (`integrate` resizes it).
         let rows = self.model.sensors.len() * self.model.sampling.n_samples();
         sens.values.resize(rows * wrt.len(), 0.0);
-        if wrt.len() > COLUMN_GROUP {
+        let size = group_size(wrt.len(), rayon::current_num_threads());
+        if wrt.len() > size {
             let mut groups = std::mem::take(&mut ws.groups);
-            let result = self.integrate_groups(params, wrt, &mut groups, out, &mut sens.values);
+            let columns = (wrt, size);
+            let result = self.integrate_groups(params, columns, &mut groups, out, &mut sens.values);
             ws.groups = groups;
             result?;
         } else {

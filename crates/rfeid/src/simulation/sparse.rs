@@ -127,27 +127,49 @@ pub(crate) fn sparse_accel<M: Madd>(
             }
         }
     }
-    for comp in comps {
-        let [o0, o1] = comp.off;
-        let (q0, q1) = (&q[o0..o0 + 6], &q[o1..o1 + 6]);
-        let (v0, v1) = (&v[o0..o0 + 6], &v[o1..o1 + 6]);
-        let (mut d, mut dv) = ([0.0; 2], [0.0; 2]);
-        for i in 0..6 {
-            d[0] = M::madd(comp.b[i], q0[i], d[0]);
-            d[1] = M::madd(comp.b[6 + i], q1[i], d[1]);
-            dv[0] = M::madd(comp.b[i], v0[i], dv[0]);
-            dv[1] = M::madd(comp.b[6 + i], v1[i], dv[1]);
+    // The components of one element are consecutive and share their
+    // blocks: gather the blocks once, sum the element's forces in
+    // registers, scatter once.
+    let mut i = 0;
+    while i < comps.len() {
+        let off = comps[i].off;
+        let [o0, o1] = off;
+        let (mut x, mut xv) = ([0.0; 12], [0.0; 12]);
+        x[..6].copy_from_slice(&q[o0..o0 + 6]);
+        x[6..].copy_from_slice(&q[o1..o1 + 6]);
+        xv[..6].copy_from_slice(&v[o0..o0 + 6]);
+        xv[6..].copy_from_slice(&v[o1..o1 + 6]);
+        let mut fg = [0.0; 12];
+        while i < comps.len() && comps[i].off == off {
+            let comp = &comps[i];
+            let d = dot12::<M>(&comp.b, &x);
+            let mut f = M::madd(comp.k, d, comp.c * dot12::<M>(&comp.b, &xv));
+            if let Some(p) = comp.power {
+                f += power_law(p.coef, p.m, d).0;
+            }
+            for (a, g) in fg.iter_mut().zip(&comp.g) {
+                *a = M::madd(f, *g, *a);
+            }
+            i += 1;
         }
-        let (d, dv) = (d[0] + d[1], dv[0] + dv[1]);
-        let mut f = M::madd(comp.k, d, comp.c * dv);
-        if let Some(p) = comp.power {
-            f += power_law(p.coef, p.m, d).0;
+        for (a, f) in acc[o0..o0 + 6].iter_mut().zip(&fg[..6]) {
+            *a += f;
         }
-        for (a, g) in acc[o0..o0 + 6].iter_mut().zip(&comp.g[..6]) {
-            *a = M::madd(f, *g, *a);
-        }
-        for (a, g) in acc[o1..o1 + 6].iter_mut().zip(&comp.g[6..]) {
-            *a = M::madd(f, *g, *a);
+        for (a, f) in acc[o1..o1 + 6].iter_mut().zip(&fg[6..]) {
+            *a += f;
         }
     }
+}
+
+/// `b · x` for 12-vectors, in four interleaved partial sums (one SIMD
+/// register's lanes) so that the products are not one dependent chain.
+#[inline(always)]
+fn dot12<M: Madd>(b: &[f64; 12], x: &[f64; 12]) -> f64 {
+    let mut s = [0.0; 4];
+    for (bc, xc) in b.chunks_exact(4).zip(x.chunks_exact(4)) {
+        for j in 0..4 {
+            s[j] = M::madd(bc[j], xc[j], s[j]);
+        }
+    }
+    (s[0] + s[2]) + (s[1] + s[3])
 }

@@ -38,6 +38,14 @@ impl Row {
         }
     }
 
+    /// The coordinates the row touches.
+    pub fn coordinates(&self) -> Vec<usize> {
+        self.blocks
+            .iter()
+            .flat_map(|(off, _)| *off..*off + 6)
+            .collect()
+    }
+
     /// The row as a dense vector of length n.
     pub fn dense(&self, n: usize) -> Vec<f64> {
         let mut v = vec![0.0; n];
