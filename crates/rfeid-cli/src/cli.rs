@@ -146,7 +146,7 @@ pub struct ModalArgs {
 #[derive(Debug, Args)]
 pub struct StepArgs {
     /// Relative RMS error of the simulated signals that the integrator's steps per sample are
-    /// chosen for (overrides the model's `tolerance`; default 1e-8, from 1e-13 to 1e-2).
+    /// chosen for (overrides the model's `tolerance`; default 1e-7, from 1e-13 to 1e-2).
     #[arg(long, value_name = "REL")]
     pub tolerance: Option<f64>,
     /// Fix the integrator's steps per sample instead (1 to 1000; overrides the model's

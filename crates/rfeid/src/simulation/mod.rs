@@ -31,10 +31,13 @@ pub const DEFAULT_TABLEAU: tableau::Tableau = tableau::DOP853;
 pub const MAX_SUBSTEPS: usize = 1000;
 
 /// Default `[simulation] tolerance`: the relative RMS error of the simulated
-/// signals that the automatic steps aim at ([`steps`]). Measured, it keeps
-/// the knee–column benchmark within 1e-6 of an independent reference at
-/// 10, 5, 2 and 1 kHz (`tests/knee_column_reference.rs`).
-pub const DEFAULT_TOLERANCE: f64 = 1e-8;
+/// signals that the automatic steps aim at ([`steps`]). The step-doubling
+/// estimate is the error of the coarser run itself, so this keeps a 10×
+/// margin to the 1e-6 the benchmark asks for: measured, the knee–column is
+/// within 2.0e-9 to 1.2e-8 of an independent reference at 10, 5, 2 and
+/// 1 kHz (`tests/knee_column_reference.rs`), and a 50-body machine tool at
+/// 10 kHz within 1.9e-8 of 16 steps per sample.
+pub const DEFAULT_TOLERANCE: f64 = 1e-7;
 
 /// The tolerances accepted.
 pub const TOLERANCE_RANGE: std::ops::RangeInclusive<f64> = 1e-13..=1e-2;
