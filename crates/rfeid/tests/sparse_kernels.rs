@@ -4,14 +4,14 @@
 //! relative (RMS difference over RMS, per sensor and per column), on the
 //! example models and generated machine tools of 2 to 10 bodies.
 //!
-//! Measured (this test prints them): at most 1.0e-13 for the responses and
-//! 7.3e-14 for the sensitivities of the examples, 4.3e-13 for the 2-body
+//! Measured (this test prints them): at most 9.8e-14 for the responses and
+//! 9.1e-14 for the sensitivities of the examples, 4.2e-13 for the 2-body
 //! generated model. The larger generated models miss 1e-12: they are under
 //! gravity, and their accelerations are small differences of static forces
 //! of the order of the weights (tonnes, against a 20 N shaker), so the two
 //! kernels' rounding differences, absolute and set by the weights, are
-//! 2.3e-12 to 5.5e-12 of the response (B = 3, 5, 10), and five times
-//! smaller relative to a 100 N response (1.1e-12 at most). They are checked
+//! 2.0e-12 to 7.5e-12 of the response or sensitivity (B = 3, 5, 10), and
+//! about five times smaller relative to a 100 N response. They are checked
 //! to 1e-11: a wrong term would differ by far more.
 
 mod machine_tool;
