@@ -28,20 +28,38 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         .install(f)
 }
 
+/// A 10-body machine tool over 0.05 s with `params` identified parameters.
+fn short_machine_tool(params: usize) -> Model {
+    let text = machine_tool::machine_tool_toml(10, params).replace("\"0.3 s\"", "\"0.05 s\"");
+    let model = model(&text);
+    assert_eq!(model.identified().len(), params);
+    model
+}
+
+/// The run with sensitivities to every identified parameter on one thread,
+/// checked to be the same bit for bit on each of `threads`.
+fn same_on_threads(
+    sim: &Simulator<'_>,
+    model: &Model,
+    threads: &[usize],
+) -> (Response, Sensitivities) {
+    let wrt = model.identified();
+    let one = in_pool(1, || run(sim, model, &wrt));
+    for &t in threads {
+        let many = in_pool(t, || run(sim, model, &wrt));
+        assert!(one == many, "{t} threads differ from one");
+    }
+    one
+}
+
 #[test]
 fn many_sensitivities_are_identical_for_any_thread_count_and_grouping() {
     // A 10-body machine tool over 0.05 s with 40 identified parameters:
     // three groups of columns (16, 16, 8).
-    let text = machine_tool::machine_tool_toml(10, 40).replace("\"0.3 s\"", "\"0.05 s\"");
-    let model = model(&text);
+    let model = short_machine_tool(40);
     let wrt = model.identified();
-    assert_eq!(wrt.len(), 40);
     let sim = Simulator::new(&model);
-    let one = in_pool(1, || run(&sim, &model, &wrt));
-    for threads in [2, 3] {
-        let many = in_pool(threads, || run(&sim, &model, &wrt));
-        assert!(one == many, "{threads} threads differ from one");
-    }
+    let one = same_on_threads(&sim, &model, &[2, 3]);
     // Each group alone (one run, no grouping) gives the same columns, and
     // so does a group that straddles two of the fixed groups.
     let r = wrt.len();
@@ -62,14 +80,6 @@ fn many_sensitivities_are_identical_for_any_thread_count_and_grouping() {
 fn sixteen_sensitivities_split_over_two_threads_are_identical() {
     // 16 columns: one run of 16 on one thread, two groups of 8 on two, and
     // four groups of 4 on four (`simulation::columns::group_size`).
-    let text = machine_tool::machine_tool_toml(10, 16).replace("\"0.3 s\"", "\"0.05 s\"");
-    let model = model(&text);
-    let wrt = model.identified();
-    assert_eq!(wrt.len(), 16);
-    let sim = Simulator::new(&model);
-    let one = in_pool(1, || run(&sim, &model, &wrt));
-    for threads in [2, 4] {
-        let many = in_pool(threads, || run(&sim, &model, &wrt));
-        assert!(one == many, "{threads} threads differ from one");
-    }
+    let model = short_machine_tool(16);
+    same_on_threads(&Simulator::new(&model), &model, &[2, 4]);
 }

@@ -80,7 +80,7 @@ impl Default for LmSettings {
     /// coordinates); `cost_tolerance` 1e-12 (relative decrease of J);
     /// `gradient_tolerance` 1e-12 (cosine measure); `initial_damping` 1e-3
     /// (relative to the scaled `JᵀJ`, whose diagonal is ≤ 1); `max_damping`
-    /// 1e16; `decrement_tolerance` 1e-2 (within 0.1 standard error of the
+    /// 1e16; `decrement_tolerance` 5e-2 (within 0.22 standard errors of the
     /// minimum).
     fn default() -> Self {
         LmSettings {

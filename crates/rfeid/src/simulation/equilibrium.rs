@@ -26,12 +26,13 @@ enum Factor<'o> {
 
 impl<'o> Factor<'o> {
     /// Factorises the row-major `n × n` matrix `a`: in its envelope if an
-    /// ordering is given and `a` is positive definite, else by dense LU.
-    fn new(n: usize, a: &[f64], ordering: Option<&'o Ordering>) -> Option<Factor<'o>> {
-        if let Some(c) = ordering.and_then(|o| EnvelopeCholesky::factor(o, a)) {
-            return Some(Factor::Envelope(c));
+    /// ordering is given and `a` is positive definite, else by dense LU
+    /// (whose singularity shows in [`Factor::solve`]).
+    fn new(n: usize, a: &[f64], ordering: Option<&'o Ordering>) -> Factor<'o> {
+        match ordering.and_then(|o| EnvelopeCholesky::factor(o, a)) {
+            Some(c) => Factor::Envelope(c),
+            None => Factor::Dense(DMatrix::from_row_slice(n, n, a).lu()),
         }
-        Some(Factor::Dense(DMatrix::from_row_slice(n, n, a).lu()))
     }
 
     /// Solves `A x = b` in place; false if A is singular.
@@ -116,7 +117,7 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
                 kt[i * n + i] = diagonal[i] + mu * scale;
             }
             let mut step: Vec<f64> = res.iter().map(|v| -v).collect();
-            if Factor::new(n, &kt, ordering.as_ref()).is_some_and(|f| f.solve(&mut step)) {
+            if Factor::new(n, &kt, ordering.as_ref()).solve(&mut step) {
                 let trial: Vec<f64> = q.iter().zip(&step).map(|(q, s)| q + s).collect();
                 let tres = residual(sys, &trial);
                 if tres.norm() < res.norm() && tres.iter().all(|v| v.is_finite()) {
@@ -146,7 +147,7 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
         let singular = || SimulationError::NoEquilibrium {
             reason: "the tangent stiffness at equilibrium is singular".into(),
         };
-        let factor = Factor::new(n, &kt, ordering.as_ref()).ok_or_else(singular)?;
+        let factor = Factor::new(n, &kt, ordering.as_ref());
         let mut rhs = DMatrix::zeros(n, r);
         for (col, &p) in wrt.iter().enumerate() {
             for usage in &sys.structure.usages[p] {
