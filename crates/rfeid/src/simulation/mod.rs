@@ -8,6 +8,7 @@ mod envelope;
 pub mod equilibrium;
 mod madd;
 pub mod modal;
+mod preload;
 pub mod run;
 mod sines;
 mod sparse;

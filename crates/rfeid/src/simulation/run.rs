@@ -396,6 +396,13 @@ impl<'m> Simulator<'m> {
             sens = None;
         }
         let wrt = if sens.is_some() { wrt } else { &[] };
+        // Under gravity, the run starts at rest in the static equilibrium
+        // and integrates the deviation from it (`preload`): the state and
+        // the sensitivities start at zero.
+        if self.model.gravity.is_some() {
+            let eq = static_equilibrium(&sys, wrt)?;
+            sys.set_reference(&eq.q, eq.dq);
+        }
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
         let st = Stepper::<M, D>::new(&sys, tab, h, wrt, self.integrator.locate_crossings);
@@ -405,21 +412,6 @@ impl<'m> Simulator<'m> {
             false => (0, 0),
         };
         ws.prepare(&sys, tab.stages(), (width, scratch), st.sine_terms());
-
-        // Initial state: rest, or static equilibrium under gravity.
-        let mut q0 = vec![0.0; n];
-        let mut s0 = vec![0.0; n * r];
-        if self.model.gravity.is_some() {
-            let eq = static_equilibrium(&sys, wrt)?;
-            q0 = eq.q;
-            s0 = eq.dq;
-        }
-        ws.y[..n].copy_from_slice(&q0);
-        if with_sens {
-            for (row, s) in ws.sy.chunks_exact_mut(width).zip(s0.chunks_exact(r.max(1))) {
-                row[..r].copy_from_slice(&s[..r]);
-            }
-        }
 
         let total_steps = n_samples.saturating_sub(1) * substeps;
         let bps = &self.breakpoints;
@@ -441,7 +433,6 @@ impl<'m> Simulator<'m> {
                     &self.structure,
                     &ws.y,
                     &ws.k[n..2 * n],
-                    &q0,
                     k,
                     n_samples,
                     &mut out.values,
@@ -451,7 +442,6 @@ impl<'m> Simulator<'m> {
                         &self.structure,
                         &ws.sy,
                         &ws.ks[n * width..2 * n * width],
-                        &s0,
                         k,
                         n_samples,
                         (r, width),
@@ -487,26 +477,14 @@ impl<'m> Simulator<'m> {
 }
 
 /// Writes the sensor readings of sample k. Displacements are measured from
-/// the initial (equilibrium) position.
+/// the initial (equilibrium) position, which is where the state's
+/// coordinates start.
 #[inline(always)]
-fn record(
-    st: &Structure,
-    y: &[f64],
-    acc: &[f64],
-    q0: &[f64],
-    k: usize,
-    n_samples: usize,
-    out: &mut [f64],
-) {
+fn record(st: &Structure, y: &[f64], acc: &[f64], k: usize, n_samples: usize, out: &mut [f64]) {
     let n = st.n;
     for (c, (kind, h)) in st.sensors.iter().enumerate() {
         let v = match kind {
-            SensorKind::Displacement => h
-                .iter()
-                .zip(&y[..n])
-                .zip(q0)
-                .map(|((h, q), q0)| h * (q - q0))
-                .sum(),
+            SensorKind::Displacement => h.iter().zip(&y[..n]).map(|(h, q)| h * q).sum(),
             SensorKind::Velocity => h.iter().zip(&y[n..]).map(|(h, v)| h * v).sum(),
             SensorKind::Acceleration => h.iter().zip(acc).map(|(h, a)| h * a).sum(),
         };
@@ -521,7 +499,6 @@ fn record_sens(
     st: &Structure,
     sy: &[f64],
     dacc: &[f64],
-    s0: &[f64],
     k: usize,
     n_samples: usize,
     (r, width): (usize, usize),
@@ -541,11 +518,6 @@ fn record_sens(
                 SensorKind::Acceleration => &dacc[i * width..i * width + r],
             };
             dst.iter_mut().zip(src).for_each(|(d, s)| *d += hi * s);
-            if *kind == SensorKind::Displacement {
-                dst.iter_mut()
-                    .zip(&s0[i * r..(i + 1) * r])
-                    .for_each(|(d, s)| *d -= hi * s);
-            }
         }
     }
 }

@@ -8,8 +8,8 @@
 //! `f_i · (−M⁻¹ B_iᵀ)` to the acceleration. The dense kernel is faster for a
 //! few bodies; [`prefer_sparse`] chooses by the operation counts.
 use super::madd::Madd;
+use super::preload::{power_change, Preload};
 use super::structure::Structure;
-use super::system::power_law;
 use crate::model::PowerSpring;
 
 /// One component row with its coefficients at one parameter point.
@@ -26,8 +26,26 @@ pub(crate) struct SparseComp {
     pub k: f64,
     /// Damping c.
     pub c: f64,
-    /// The power-law spring, if any.
-    pub power: Option<PowerSpring>,
+    /// The index of its power-law spring in the [`SparsePower`] list, if it
+    /// has one (kept out of the component, which the kernels stream).
+    pub power: Option<u32>,
+}
+
+impl SparseComp {
+    /// The component's power-law spring in `powers`, if any.
+    #[inline(always)]
+    pub fn power<'p>(&self, powers: &'p [SparsePower]) -> Option<&'p SparsePower> {
+        self.power.map(|j| &powers[j as usize])
+    }
+}
+
+/// A power-law spring of the element-by-element kernels, in component order.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SparsePower {
+    /// The spring.
+    pub spring: PowerSpring,
+    /// Its static deformation (zero without one).
+    pub pre: Preload,
 }
 
 /// A load or other n-vector stored by its nonzero 6-blocks.
@@ -54,19 +72,27 @@ impl BlockVec {
     }
 }
 
-/// The components of `structure` with their coefficients; `coef(i)` gives
-/// component i's `(k, c, a, m)`.
+/// The components of `structure` with their coefficients, and their
+/// power-law springs; `coef(i)` gives component i's `(k, c, spring)`.
 pub(crate) fn sparse_components(
     structure: &Structure,
     minv: &[f64],
     coef: impl Fn(usize) -> (f64, f64, Option<PowerSpring>),
-) -> Vec<SparseComp> {
-    structure
+) -> (Vec<SparseComp>, Vec<SparsePower>) {
+    let mut powers = Vec::new();
+    let comps = structure
         .components
         .iter()
         .enumerate()
         .map(|(i, comp)| {
-            let (k, c, power) = coef(i);
+            let (k, c, spring) = coef(i);
+            let power = spring.map(|spring| {
+                powers.push(SparsePower {
+                    spring,
+                    pre: Preload::default(),
+                });
+                (powers.len() - 1) as u32
+            });
             let mut off = [0; 2];
             let mut b = [0.0; 12];
             let mut g = [0.0; 12];
@@ -89,7 +115,8 @@ pub(crate) fn sparse_components(
                 power,
             }
         })
-        .collect()
+        .collect();
+    (comps, powers)
 }
 
 /// Whether the element-by-element kernel does fewer operations than the
@@ -106,11 +133,13 @@ pub(crate) fn prefer_sparse(n: usize, components: usize, power: usize, width: us
     sparse < dense
 }
 
-/// `acc = g + M⁻¹(Σ_e L_e P_e − Σ_i B_iᵀ f_i)` for the state `y = [q; q̇]`.
+/// `acc = base + M⁻¹(Σ_e L_e P_e − Σ_i B_iᵀ f_i)` for the state `y = [q;
+/// q̇]`; `base` is `M⁻¹ × weight`, or zero for the deviation from the static
+/// equilibrium, whose power-law forces are then changes (`preload`).
 #[inline(always)]
 pub(crate) fn sparse_accel<M: Madd>(
-    comps: &[SparseComp],
-    minv_gravity: &[f64],
+    (comps, powers): (&[SparseComp], &[SparsePower]),
+    base: &[f64],
     minv_loads: &[BlockVec],
     forces: &[f64],
     y: &[f64],
@@ -118,7 +147,7 @@ pub(crate) fn sparse_accel<M: Madd>(
 ) {
     let n = acc.len();
     let (q, v) = y[..2 * n].split_at(n);
-    acc.copy_from_slice(&minv_gravity[..n]);
+    acc.copy_from_slice(&base[..n]);
     for (load, &p) in minv_loads.iter().zip(forces) {
         for (o, l) in &load.blocks {
             let a = &mut acc[*o..*o + 6];
@@ -144,8 +173,8 @@ pub(crate) fn sparse_accel<M: Madd>(
             let comp = &comps[i];
             let d = dot12::<M>(&comp.b, &x);
             let mut f = M::madd(comp.k, d, comp.c * dot12::<M>(&comp.b, &xv));
-            if let Some(p) = comp.power {
-                f += power_law(p.coef, p.m, d).0;
+            if let Some(p) = comp.power(powers) {
+                f += power_change(p.spring.coef, p.spring.m, &p.pre, d).0;
             }
             for (a, g) in fg.iter_mut().zip(&comp.g) {
                 *a = M::madd(f, *g, *a);

@@ -10,19 +10,26 @@
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
 use super::madd::Madd;
-use super::sparse::SparseComp;
+use super::preload::power_change;
+use super::preload::Preload;
+use super::sparse::{SparseComp, SparsePower};
 use super::structure::Usage;
 use super::system::{power_law, System};
 use super::tangent::force_derivative;
 
+/// The identified parameters acting on one component: (column, usage).
+pub(crate) type ComponentUsages = Vec<(usize, Usage)>;
+
 /// `dacc = Σ_i g_i (slope_i B_i Y_q + c_i B_i Y_v + ∂f_i/∂x)` (n rows of
 /// `width`, a multiple of four) at the state `(q, v)`, for the
 /// sensitivities `sy` (2n rows of `width`); `usages[i]` lists the
-/// parameters (column, usage) acting on component i.
+/// parameters (column, usage) acting on component i. About a static
+/// equilibrium (`preload`), `statics[i]` is `B_i ∂q₀/∂x` (empty if not
+/// needed), which adds `g_i (slope_i − slope_i(δ₀)) B_i ∂q₀/∂x`.
 #[inline(always)]
 pub(crate) fn sparse_tangent<M: Madd>(
     sys: &System<'_>,
-    usages: &[Vec<(usize, Usage)>],
+    (usages, statics): (&[ComponentUsages], &[Vec<f64>]),
     (q, v): (&[f64], &[f64]),
     sy: &[f64],
     width: usize,
@@ -31,7 +38,7 @@ pub(crate) fn sparse_tangent<M: Madd>(
     let n = q.len();
     let (yq, yv) = sy[..2 * n * width].split_at(n * width);
     dacc.fill(0.0);
-    for (comp, usages) in sys.comps.iter().zip(usages) {
+    for ((comp, usages), statics) in sys.comps.iter().zip(usages).zip(statics) {
         let [o0, o1] = comp.off;
         let mut d = [0.0; 2];
         for i in 0..6 {
@@ -39,20 +46,54 @@ pub(crate) fn sparse_tangent<M: Madd>(
             d[1] = M::madd(comp.b[6 + i], q[o1 + i], d[1]);
         }
         let d = d[0] + d[1];
-        let slope = match comp.power {
-            Some(p) => comp.k + power_law(p.coef, p.m, d).1,
-            None => comp.k,
+        let power = comp.power(&sys.powers);
+        let (slope, change) = match power {
+            Some(&SparsePower { spring: p, pre }) => {
+                let slope = comp.k + power_law(p.coef, p.m, pre.d0 + d).1;
+                let change = match statics.is_empty() {
+                    true => 0.0,
+                    false => power_change(p.coef, p.m, &pre, d).1,
+                };
+                (slope, change)
+            }
+            None => (comp.k, 0.0),
+        };
+        let explicit = Explicit {
+            power,
+            usages,
+            d,
+            v,
+            change,
+            statics,
         };
         let rows = [o0, o1];
         let mut c0 = 0;
         while c0 + 8 <= width {
-            component_columns::<M, 8>(comp, usages, (slope, d, v), rows, (yq, yv), width, c0, dacc);
+            component_columns::<M, 8>(comp, &explicit, slope, rows, (yq, yv), width, c0, dacc);
             c0 += 8;
         }
         if c0 < width {
-            component_columns::<M, 4>(comp, usages, (slope, d, v), rows, (yq, yv), width, c0, dacc);
+            component_columns::<M, 4>(comp, &explicit, slope, rows, (yq, yv), width, c0, dacc);
         }
     }
+}
+
+/// What a component adds to the sensitivities beside `slope B Y_q + c B
+/// Y_v`: the explicit dependences on its parameters, and the slope's change
+/// times `B ∂q₀/∂x` under a preload.
+struct Explicit<'a> {
+    /// The component's power-law spring, if any.
+    power: Option<&'a SparsePower>,
+    /// (column, usage) of the parameters acting on the component.
+    usages: &'a [(usize, Usage)],
+    /// Its deformation (from the static one, if any).
+    d: f64,
+    /// The velocities, for a damping's δ̇.
+    v: &'a [f64],
+    /// The slope's change from the static deformation.
+    change: f64,
+    /// `B ∂q₀/∂x` (width), or empty.
+    statics: &'a [f64],
 }
 
 /// Columns `c0..c0 + W` of one component's contribution to `dacc`.
@@ -60,8 +101,8 @@ pub(crate) fn sparse_tangent<M: Madd>(
 #[allow(clippy::too_many_arguments)]
 fn component_columns<M: Madd, const W: usize>(
     comp: &SparseComp,
-    usages: &[(usize, Usage)],
-    (slope, d, v): (f64, f64, &[f64]),
+    e: &Explicit<'_>,
+    slope: f64,
     [o0, o1]: [usize; 2],
     (yq, yv): (&[f64], &[f64]),
     width: usize,
@@ -71,9 +112,19 @@ fn component_columns<M: Madd, const W: usize>(
     // s = ∂f/∂x (explicit), then + slope B Y_q + c B Y_v, in two chains.
     let mut s = [0.0; W];
     let mut t = [0.0; W];
-    for &(col, usage) in usages {
+    if e.change != 0.0 {
+        for (s, w) in s.iter_mut().zip(&e.statics[c0..c0 + W]) {
+            *s = e.change * w;
+        }
+    }
+    let (d, v) = (e.d, e.v);
+    for &(col, usage) in e.usages {
         if (c0..c0 + W).contains(&col) {
-            s[col - c0] += force_derivative(usage, comp.power, d, || {
+            let (spring, pre) = match e.power {
+                Some(p) => (Some(p.spring), p.pre),
+                None => (None, Preload::default()),
+            };
+            s[col - c0] += force_derivative(usage, spring, &pre, d, || {
                 let mut dv = [0.0; 2];
                 for i in 0..6 {
                     dv[0] = M::madd(comp.b[i], v[o0 + i], dv[0]);

@@ -287,8 +287,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let n = D::n(self.sys.n);
         ws.crossings.clear();
         for pr in self.sys.power.iter().filter(|p| p.kinked) {
-            let d0 = pr.row.dot(&ws.y[..n]);
-            let d1 = pr.row.dot(&ws.y_new[..n]);
+            // The state is the deviation from the static deformation.
+            let d0 = pr.pre.d0 + pr.row.dot(&ws.y[..n]);
+            let d1 = pr.pre.d0 + pr.row.dot(&ws.y_new[..n]);
             if !(d0 * d1 < 0.0) {
                 continue;
             }

@@ -6,9 +6,13 @@
 //! into dense `−M⁻¹K` and `−M⁻¹C` (the paper's K and C, and F_d); the
 //! power-law springs (F_e, eq. 2–6) stay as rows. [`System::accel`]
 //! allocates nothing; the sensitivities' right-hand side is in `tangent`.
+//! Runs under gravity move about the static equilibrium
+//! ([`System::set_reference`], `preload`).
 use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
-use super::sparse::{prefer_sparse, sparse_accel, sparse_components, BlockVec, SparseComp};
+use super::preload::{power_change, Preload};
+use super::sparse::{prefer_sparse, sparse_accel, sparse_components};
+use super::sparse::{BlockVec, SparseComp, SparsePower};
 use super::structure::{Row, Structure};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
@@ -26,6 +30,8 @@ pub struct PowerRow {
     /// Whether the law is non-smooth at δ = 0: `sign(δ)|δ|^m` is the
     /// polynomial δ^m for odd whole m, and non-smooth otherwise.
     pub kinked: bool,
+    /// The static deformation the run moves about (zero without one).
+    pub(crate) pre: Preload,
 }
 
 /// The force of the power law and its slope, `(a sign(δ)|δ|^m, m a |δ|^(m−1))`.
@@ -82,12 +88,26 @@ pub struct System<'a> {
     power_b: Vec<f64>,
     /// `(a, m)` per power-law slot: the rows, padded to whole panels with `(0, 2)`.
     power_am: Vec<(f64, f64)>,
+    /// The static deformation per power-law slot.
+    power_pre: Vec<Preload>,
+    /// Whether every power law is a square (m = 2), the slideways' usual
+    /// law: the dense kernel's four lanes then run without branches.
+    power_square: bool,
+    /// The constant part of the acceleration: `M⁻¹ × weight`, or zero once
+    /// the run moves about the static equilibrium, whose elastic forces
+    /// balance the weights ([`Self::set_reference`]).
+    pub(crate) base: Vec<f64>,
+    /// `∂q₀/∂x` of the static equilibrium moved about, n × r row-major
+    /// (empty without one, or without sensitivities).
+    pub(crate) static_dq: Vec<f64>,
     /// Whether [`Self::accel`] (and the sensitivities) run element by
     /// element (`sparse`) rather than on the dense panels above, which are
     /// then left empty.
     pub(crate) sparse: bool,
     /// Every component with its coefficients, for the sparse kernel.
     pub(crate) comps: Vec<SparseComp>,
+    /// The power-law springs of `comps`, in component order (as `power`).
+    pub(crate) powers: Vec<SparsePower>,
     /// `M⁻¹ L_e` per excitation by nonzero 6-blocks, for the sparse kernel.
     pub(crate) minv_load_blocks: Vec<BlockVec>,
 }
@@ -160,6 +180,7 @@ impl<'a> System<'a> {
                         a: spring.coef,
                         m,
                         kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
+                        pre: Preload::default(),
                     });
                 }
             }
@@ -176,7 +197,7 @@ impl<'a> System<'a> {
             .iter()
             .map(|l| l.iter().zip(&minv).map(|(x, m)| x * m).collect())
             .collect();
-        let comps = sparse_components(structure, &minv, |i| {
+        let (comps, powers) = sparse_components(structure, &minv, |i| {
             let comp = &structure.components[i];
             let k = match comp.law {
                 Law::Linear { k } => k.eval(params),
@@ -189,11 +210,16 @@ impl<'a> System<'a> {
         let mut sys = System {
             power_b: Vec::new(),
             power_am: Vec::new(),
+            power_pre: Vec::new(),
+            power_square: false,
+            base: minv_gravity.clone(),
+            static_dq: Vec::new(),
             a_ext: Vec::new(),
             ext_cols: 0,
             gravity_panels: Vec::new(),
             sparse: true,
             comps,
+            powers,
             minv_load_blocks,
             structure,
             model,
@@ -218,13 +244,33 @@ impl<'a> System<'a> {
         }
     }
 
+    /// From now on, the state is the deviation `[q − q₀; q̇]` from the static
+    /// equilibrium `q0` (whose sensitivities are `dq0`, n × r for the run's
+    /// r parameters), and [`Self::accel`] computes the forces as changes
+    /// from there (`preload`): the same accelerations, with rounding
+    /// relative to the motion rather than to the weights.
+    pub(crate) fn set_reference(&mut self, q0: &[f64], dq0: Vec<f64>) {
+        // Both lists hold the power-law components in component order.
+        for (row, p) in self.power.iter_mut().zip(&mut self.powers) {
+            p.pre = Preload::new(p.spring.m, row.row.dot(q0));
+            row.pre = p.pre;
+        }
+        self.base.fill(0.0);
+        self.static_dq = dq0;
+        if self.ext_cols != 0 {
+            self.build_dense();
+        }
+    }
+
     /// The dense panels of the accelerations (see the fields).
     fn build_dense(&mut self) {
         let (n, minv, a_lin) = (self.n, &self.minv, &self.a_lin);
         let slots = 4 * self.power.len().div_ceil(4);
         let mut power_b = vec![0.0; slots * n];
         let mut power_am = vec![(0.0, 2.0); slots];
+        let mut power_pre = vec![Preload::default(); slots];
         for (k, pr) in self.power.iter().enumerate() {
+            power_pre[k] = pr.pre;
             let dense = pr.row.dense(n);
             for (j, v) in dense.iter().enumerate() {
                 power_b[((k / 4) * n + j) * 4 + k % 4] = *v;
@@ -251,9 +297,11 @@ impl<'a> System<'a> {
             for j in 0..ext_cols {
                 a_ext[((i / 4) * ext_cols + j) * 4 + i % 4] = column(i, j);
             }
-            gravity_panels[i / 4][i % 4] = self.minv_gravity[i];
+            gravity_panels[i / 4][i % 4] = self.base[i];
         }
+        self.power_square = power_am.iter().all(|(_, m)| *m == 2.0);
         (self.power_b, self.power_am, self.a_ext) = (power_b, power_am, a_ext);
+        self.power_pre = power_pre;
         (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
     }
 
@@ -304,17 +352,20 @@ impl<'a> System<'a> {
         let n = D::n(self.n);
         let (y, acc) = (&y[..2 * n], &mut acc[..n]);
         if self.sparse {
-            let (g, loads) = (&self.minv_gravity, &self.minv_load_blocks);
-            return sparse_accel::<M>(&self.comps, g, loads, forces, y, acc);
+            let (g, loads) = (&self.base, &self.minv_load_blocks);
+            let comps = (&self.comps[..], &self.powers[..]);
+            return sparse_accel::<M>(comps, g, loads, forces, y, acc);
         }
         let slots = self.power_am.len();
         let fp = &mut scratch[..slots];
         // The power-law forces four at a time: δ = B q for the panel, then
-        // f = a sign(δ)|δ|^m (eq. 2–6).
-        for ((panel, am), f) in self
+        // f = a sign(δ)|δ|^m (eq. 2–6), as its change from the static
+        // deformation if there is one.
+        for (((panel, am), pre), f) in self
             .power_b
             .chunks_exact(4 * n)
             .zip(self.power_am.chunks_exact(4))
+            .zip(self.power_pre.chunks_exact(4))
             .zip(fp.chunks_exact_mut(4))
         {
             let mut d = [0.0; 4];
@@ -323,11 +374,17 @@ impl<'a> System<'a> {
                     d[i] = M::madd(b[i], qj, d[i]);
                 }
             }
-            for i in 0..4 {
-                f[i] = power_law(am[i].0, am[i].1, d[i]).0;
+            if self.power_square {
+                for i in 0..4 {
+                    f[i] = am[i].0 * square_change(pre[i].d0, d[i]);
+                }
+            } else {
+                for i in 0..4 {
+                    f[i] = power_change(am[i].0, am[i].1, &pre[i], d[i]).0;
+                }
             }
         }
-        // q̈ = M⁻¹(weight) + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
+        // q̈ = base + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
         let (ny, nf) = (2 * n, slots);
         for ((panel, g), rows) in self
             .a_ext
@@ -397,6 +454,21 @@ impl<'a> System<'a> {
             }
         }
         c
+    }
+}
+
+/// `δ|δ| − δ₀|δ₀|` for `δ = δ₀ + d` without branches: `d (|δ| + |δ₀|)`
+/// with the same sign at both ends (as in `preload`), the plain difference
+/// otherwise, where it does not cancel.
+#[inline(always)]
+fn square_change(d0: f64, d: f64) -> f64 {
+    let dd = d0 + d;
+    let near = d * (dd.abs() + d0.abs());
+    let far = dd * dd.abs() - d0 * d0.abs();
+    if dd * d0 > 0.0 {
+        near
+    } else {
+        far
     }
 }
 

@@ -15,10 +15,18 @@
 //! Rows of Y and of the result hold [`Tangent::width`] columns: r rounded up
 //! to a multiple of four, so the kernels run on whole vectors. The padding
 //! columns start at zero and stay zero.
+//!
+//! About a static equilibrium q₀ (`preload`), Y is the deviation
+//! `∂(q − q₀)/∂x` and the right-hand side its derivative: with
+//! `K_t(q₀) ∂q₀/∂x + ∂f/∂x(q₀) = ∂M/∂x g` (the equilibrium's sensitivity)
+//! subtracted, `−M⁻¹(K_t(q) Y_q + (K_t(q) − K_t(q₀)) ∂q₀/∂x + C Y_v +
+//! ∂f/∂x(q) − ∂f/∂x(q₀) + ∂M/∂x q̈)` plus the loads' term. The slope changes
+//! multiply the constant `B_p ∂q₀/∂x` of each power-law spring p.
 use super::dim::Dim;
 use super::madd::Madd;
+use super::preload::{exponent_change, power_change, Preload};
 use super::sparse_tangent::sparse_tangent;
-use super::structure::Usage;
+use super::structure::{Row, Usage};
 use super::system::{power_law, System};
 use crate::model::{Law, PowerSpring};
 
@@ -32,6 +40,10 @@ struct Active {
     g: Vec<f64>,
     /// The power-law spring, if any.
     power: Option<PowerSpring>,
+    /// Its static deformation.
+    pre: Preload,
+    /// `B_i ∂q₀/∂x` ([`static_columns`]).
+    static_columns: Vec<f64>,
     /// Identified parameters acting here: (column, usage).
     usages: Vec<(usize, Usage)>,
 }
@@ -52,6 +64,9 @@ pub(crate) struct Tangent {
     /// For each component row, the identified parameters acting there:
     /// (column, usage). Empty unless `sparse`.
     component_usages: Vec<Vec<(usize, Usage)>>,
+    /// For each component row, `B_i ∂q₀/∂x` ([`static_columns`]). Empty
+    /// unless `sparse`.
+    component_statics: Vec<Vec<f64>>,
 }
 
 impl Tangent {
@@ -67,6 +82,7 @@ impl Tangent {
                 others: Vec::new(),
                 sparse: sys.sparse,
                 component_usages: Vec::new(),
+                component_statics: Vec::new(),
             };
         }
         // Usages per component first, so that the active components come in
@@ -88,27 +104,43 @@ impl Tangent {
             }
         }
         let width = wrt.len().next_multiple_of(4);
+        let statics = |c: &super::structure::ComponentRow, power: Option<PowerSpring>| match power {
+            Some(_) => static_columns(sys, &c.row, wrt.len(), width),
+            None => Vec::new(),
+        };
         if sys.sparse {
+            let component_statics = structure
+                .components
+                .iter()
+                .zip(&sys.comps)
+                .map(|(c, comp)| statics(c, comp.power(&sys.powers).map(|p| p.spring)))
+                .collect();
             return Tangent {
                 width,
                 active: Vec::new(),
                 others,
                 sparse: true,
                 component_usages: usages,
+                component_statics,
             };
         }
         let active = structure
             .components
             .iter()
             .zip(usages)
-            .filter(|(c, u)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
-            .map(|(c, usages)| {
+            .zip(&sys.comps)
+            .filter(|((c, u), _)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
+            .map(|((c, usages), comp)| {
                 let power = c.law.power_spring(&sys.params);
                 let b = c.row.dense(n);
                 Active {
                     g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
                     b,
                     power,
+                    pre: comp
+                        .power(&sys.powers)
+                        .map_or_else(Preload::default, |p| p.pre),
+                    static_columns: statics(c, power),
                     usages,
                 }
             })
@@ -119,6 +151,7 @@ impl Tangent {
             others,
             sparse: false,
             component_usages: Vec::new(),
+            component_statics: Vec::new(),
         }
     }
 
@@ -152,7 +185,8 @@ impl Tangent {
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
         if self.sparse {
-            sparse_tangent::<M>(sys, &self.component_usages, (q, v), sy, width, dacc);
+            let columns = (&self.component_usages[..], &self.component_statics[..]);
+            sparse_tangent::<M>(sys, columns, (q, v), sy, width, dacc);
             self.add_others(sys, (t, before), acc, dacc);
             return;
         }
@@ -160,22 +194,32 @@ impl Tangent {
         let et = &mut et[..width * n];
 
         // J: the linear part, plus f'(δ) (−M⁻¹B_pᵀ) B_p per power-law spring.
-        // Eᵀ: per parameter, −M⁻¹B_iᵀ ∂f_i/∂x over the components it enters.
+        // Eᵀ: per parameter, −M⁻¹B_iᵀ ∂f_i/∂x over the components it enters,
+        // and the slope's change times B_p ∂q₀/∂x under a preload.
         jac.copy_from_slice(&sys.a_lin[..2 * n * n]);
         et.fill(0.0);
         for comp in &self.active {
             let (b, g) = (&comp.b[..n], &comp.g[..n]);
             let d = dot::<M>(b, q);
             if let Some(p) = comp.power {
-                let slope = power_law(p.coef, p.m, d).1;
+                let slope = power_law(p.coef, p.m, comp.pre.d0 + d).1;
                 if slope != 0.0 {
                     for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
                         axpy::<M>(slope * g[k], b, &mut row[..n]);
                     }
                 }
+                let change = match comp.static_columns.is_empty() {
+                    true => 0.0,
+                    false => power_change(p.coef, p.m, &comp.pre, d).1,
+                };
+                if change != 0.0 {
+                    for (col, w) in et.chunks_exact_mut(n).zip(&comp.static_columns) {
+                        axpy::<M>(change * w, g, col);
+                    }
+                }
             }
             for &(col, usage) in &comp.usages {
-                let f = force_derivative(usage, comp.power, d, || dot::<M>(b, v));
+                let f = force_derivative(usage, comp.power, &comp.pre, d, || dot::<M>(b, v));
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
         }
@@ -205,9 +249,11 @@ impl Tangent {
             let cell = |k: usize| k * width + col;
             match usage {
                 Usage::Mass(b) => {
+                    // (g − q̈)/m, or −q̈/m about the static equilibrium,
+                    // whose sensitivity holds the weight's part.
                     let m = sys.model.bodies[b].mass.eval(&sys.params);
                     for k in 6 * b..6 * b + 3 {
-                        dacc[cell(k)] += (sys.minv_gravity[k] - acc[k]) / m;
+                        dacc[cell(k)] += (sys.base[k] - acc[k]) / m;
                     }
                 }
                 Usage::Inertia(b, axis) => {
@@ -231,21 +277,23 @@ impl Tangent {
 }
 
 /// `∂f_i/∂x` of a component's force `f_i = k δ + a sign(δ)|δ|^m + c δ̇`
-/// (eq. 2–7) for the parameter x used as `usage`, at deformation `d`;
+/// (eq. 2–7) for the parameter x used as `usage`, at deformation `d` from
+/// the static deformation `pre` (`preload`), as its change from there;
 /// `rate` gives δ̇ (computed only for a damping). `power` is the component's
 /// power-law spring (always present for a power-law usage).
 #[inline(always)]
 pub(super) fn force_derivative(
     usage: Usage,
     power: Option<PowerSpring>,
+    pre: &Preload,
     d: f64,
     rate: impl FnOnce() -> f64,
 ) -> f64 {
     match (usage, power) {
         (Usage::Stiffness(_), _) => d,
         (Usage::Damping(_), _) => rate(),
-        (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_law(1.0, p.m, d).0,
-        (Usage::PowerExponent(_), Some(p)) => exponent_derivative(p, d),
+        (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_change(1.0, p.m, pre, d).0,
+        (Usage::PowerExponent(_), Some(p)) => exponent_change(p, pre, d),
         (Usage::PowerCoefficient(_) | Usage::PowerExponent(_), None) => 0.0,
         (Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..), _) => 0.0,
     }
@@ -338,15 +386,21 @@ fn axpy<M: Madd>(alpha: f64, x: &[f64], y: &mut [f64]) {
     }
 }
 
-/// `∂f/∂m = a sign(δ)(|δ|/δ_ref)^m ln(|δ|/δ_ref)` of a power law (eq. 6),
-/// computed as `coef sign(δ)|δ|^m (ln|δ| − ln δ_ref)`. Kept out of line:
-/// inlined, the compiler may hoist the logarithm out of the branch that
-/// needs it and pay for it on every component of every stage.
-#[inline(never)]
-fn exponent_derivative(p: PowerSpring, d: f64) -> f64 {
-    if d == 0.0 {
-        0.0
-    } else {
-        p.coef * power_law(1.0, p.m, d).0 * (d.abs().ln() - p.ln_ref)
+/// `B ∂q₀/∂x` for the component row `row`: the static equilibrium's
+/// sensitivities (`r` columns) seen by the row, zero-padded to `width`;
+/// empty without them.
+fn static_columns(sys: &System<'_>, row: &Row, r: usize, width: usize) -> Vec<f64> {
+    if r == 0 || sys.static_dq.len() != sys.n * r {
+        return Vec::new();
     }
+    let mut w = vec![0.0; width];
+    for (o, coefs) in &row.blocks {
+        for (i, &c) in coefs.iter().enumerate() {
+            let dq = &sys.static_dq[(o + i) * r..(o + i + 1) * r];
+            for (w, s) in w.iter_mut().zip(dq) {
+                *w += c * s;
+            }
+        }
+    }
+    w
 }
