@@ -30,7 +30,7 @@ use super::sparse::prefer_sparse;
 use super::stepper::Stepper;
 pub use super::stepper::Workspace;
 use super::steps::{choose_steps, estimate_error, fastest_mode_hz, StepChoice};
-use super::structure::Structure;
+use super::structure::{Row, Structure};
 use super::system::System;
 use super::tableau::Tableau;
 use super::{SimulationError, MAX_SUBSTEPS};
@@ -291,9 +291,12 @@ impl<'m> Simulator<'m> {
         let mut probe = self.clone();
         probe.structure.sensors = (0..n)
             .map(|i| {
-                let mut h = vec![0.0; n];
-                h[i] = 1.0;
-                (SensorKind::Displacement, h)
+                let mut h = [0.0; 6];
+                h[i % 6] = 1.0;
+                let row = Row {
+                    blocks: vec![(i - i % 6, h)],
+                };
+                (SensorKind::Displacement, row)
             })
             .collect();
         let mut out = Response::zeros(n, self.model.sampling.n_samples());
@@ -483,12 +486,11 @@ impl<'m> Simulator<'m> {
 fn record(st: &Structure, y: &[f64], acc: &[f64], k: usize, n_samples: usize, out: &mut [f64]) {
     let n = st.n;
     for (c, (kind, h)) in st.sensors.iter().enumerate() {
-        let v = match kind {
-            SensorKind::Displacement => h.iter().zip(&y[..n]).map(|(h, q)| h * q).sum(),
-            SensorKind::Velocity => h.iter().zip(&y[n..]).map(|(h, v)| h * v).sum(),
-            SensorKind::Acceleration => h.iter().zip(acc).map(|(h, a)| h * a).sum(),
+        out[c * n_samples + k] = match kind {
+            SensorKind::Displacement => h.dot(&y[..n]),
+            SensorKind::Velocity => h.dot(&y[n..2 * n]),
+            SensorKind::Acceleration => h.dot(acc),
         };
-        out[c * n_samples + k] = v;
     }
 }
 
@@ -508,10 +510,8 @@ fn record_sens(
     for (c, (kind, h)) in st.sensors.iter().enumerate() {
         let dst = &mut out[(c * n_samples + k) * r..(c * n_samples + k + 1) * r];
         dst.fill(0.0);
-        for (i, &hi) in h.iter().enumerate() {
-            if hi == 0.0 {
-                continue;
-            }
+        let coefs = h.blocks.iter().flat_map(|(o, c)| (*o..*o + 6).zip(c));
+        for (i, &hi) in coefs.filter(|(_, c)| **c != 0.0) {
             let src = match kind {
                 SensorKind::Displacement => &sy[i * width..i * width + r],
                 SensorKind::Velocity => &sy[(n + i) * width..(n + i) * width + r],

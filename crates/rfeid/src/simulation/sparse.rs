@@ -9,7 +9,7 @@
 //! few bodies; [`prefer_sparse`] chooses by the operation counts.
 use super::madd::Madd;
 use super::preload::{power_change, Preload};
-use super::structure::Structure;
+use super::structure::{Row, Structure};
 use crate::model::PowerSpring;
 
 /// One component row with its coefficients at one parameter point.
@@ -29,6 +29,10 @@ pub(crate) struct SparseComp {
     /// The index of its power-law spring in the [`SparsePower`] list, if it
     /// has one (kept out of the component, which the kernels stream).
     pub power: Option<u32>,
+    /// Bit j set where `b[j]` is nonzero: the entries a sensitivity kernel
+    /// visits (about a third of them when the element's axes are the
+    /// bodies'; a skipped term would add an exact zero).
+    pub nonzero: u16,
 }
 
 impl SparseComp {
@@ -46,30 +50,6 @@ pub(crate) struct SparsePower {
     pub spring: PowerSpring,
     /// Its static deformation (zero without one).
     pub pre: Preload,
-}
-
-/// A load or other n-vector stored by its nonzero 6-blocks.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct BlockVec {
-    /// `(first coordinate, values)` per nonzero block.
-    pub blocks: Vec<(usize, [f64; 6])>,
-}
-
-impl BlockVec {
-    /// The nonzero 6-blocks of a dense vector.
-    pub fn from_dense(v: &[f64]) -> BlockVec {
-        let blocks = v
-            .chunks(6)
-            .enumerate()
-            .filter(|(_, c)| c.iter().any(|x| *x != 0.0))
-            .map(|(b, c)| {
-                let mut a = [0.0; 6];
-                a[..c.len()].copy_from_slice(c);
-                (6 * b, a)
-            })
-            .collect();
-        BlockVec { blocks }
-    }
 }
 
 /// The components of `structure` with their coefficients, and their
@@ -103,8 +83,10 @@ pub(crate) fn sparse_components(
             if comp.row.blocks.len() < 2 {
                 off[1] = off[0];
             }
+            let mut nonzero = 0;
             for (j, gj) in g.iter_mut().enumerate() {
                 *gj = -b[j] * minv[off[j / 6] + j % 6];
+                nonzero |= u16::from(b[j] != 0.0) << j;
             }
             SparseComp {
                 off,
@@ -113,10 +95,24 @@ pub(crate) fn sparse_components(
                 k,
                 c,
                 power,
+                nonzero,
             }
         })
         .collect();
     (comps, powers)
+}
+
+/// The ranges of consecutive components that share their blocks (one
+/// element's components), as `(start, end)`.
+pub(crate) fn element_ranges(comps: &[SparseComp]) -> Vec<(usize, usize)> {
+    let mut ranges: Vec<(usize, usize)> = Vec::new();
+    for (i, comp) in comps.iter().enumerate() {
+        match ranges.last_mut() {
+            Some(last) if comps[last.0].off == comp.off => last.1 = i + 1,
+            _ => ranges.push((i, i + 1)),
+        }
+    }
+    ranges
 }
 
 /// Whether the element-by-element kernel does fewer operations than the
@@ -138,9 +134,9 @@ pub(crate) fn prefer_sparse(n: usize, components: usize, power: usize, width: us
 /// equilibrium, whose power-law forces are then changes (`preload`).
 #[inline(always)]
 pub(crate) fn sparse_accel<M: Madd>(
-    (comps, powers): (&[SparseComp], &[SparsePower]),
+    (comps, powers, elements): (&[SparseComp], &[SparsePower], &[(usize, usize)]),
     base: &[f64],
-    minv_loads: &[BlockVec],
+    minv_loads: &[Row],
     forces: &[f64],
     y: &[f64],
     acc: &mut [f64],
@@ -159,27 +155,28 @@ pub(crate) fn sparse_accel<M: Madd>(
     // The components of one element are consecutive and share their
     // blocks: gather the blocks once, sum the element's forces in
     // registers, scatter once.
-    let mut i = 0;
-    while i < comps.len() {
-        let off = comps[i].off;
-        let [o0, o1] = off;
+    for &(start, end) in elements {
+        let [o0, o1] = comps[start].off;
         let (mut x, mut xv) = ([0.0; 12], [0.0; 12]);
         x[..6].copy_from_slice(&q[o0..o0 + 6]);
         x[6..].copy_from_slice(&q[o1..o1 + 6]);
         xv[..6].copy_from_slice(&v[o0..o0 + 6]);
         xv[6..].copy_from_slice(&v[o1..o1 + 6]);
         let mut fg = [0.0; 12];
-        while i < comps.len() && comps[i].off == off {
-            let comp = &comps[i];
-            let d = dot12::<M>(&comp.b, &x);
-            let mut f = M::madd(comp.k, d, comp.c * dot12::<M>(&comp.b, &xv));
+        for comp in &comps[start..end] {
+            // k δ + c δ̇ lane by lane, then one sum across the lanes.
+            let (d, dv) = (lanes12::<M>(&comp.b, &x), lanes12::<M>(&comp.b, &xv));
+            let mut lin = [0.0; 4];
+            for j in 0..4 {
+                lin[j] = M::madd(comp.c, dv[j], comp.k * d[j]);
+            }
+            let mut f = sum4(lin);
             if let Some(p) = comp.power(powers) {
-                f += power_change(p.spring.coef, p.spring.m, &p.pre, d).0;
+                f += power_change(p.spring.coef, p.spring.m, &p.pre, sum4(d)).0;
             }
             for (a, g) in fg.iter_mut().zip(&comp.g) {
                 *a = M::madd(f, *g, *a);
             }
-            i += 1;
         }
         for (a, f) in acc[o0..o0 + 6].iter_mut().zip(&fg[..6]) {
             *a += f;
@@ -190,15 +187,22 @@ pub(crate) fn sparse_accel<M: Madd>(
     }
 }
 
-/// `b · x` for 12-vectors, in four interleaved partial sums (one SIMD
-/// register's lanes) so that the products are not one dependent chain.
+/// `b · x` for 12-vectors as four interleaved partial sums (one SIMD
+/// register's lanes), so that the products are not one dependent chain;
+/// [`sum4`] adds them up.
 #[inline(always)]
-fn dot12<M: Madd>(b: &[f64; 12], x: &[f64; 12]) -> f64 {
+fn lanes12<M: Madd>(b: &[f64; 12], x: &[f64; 12]) -> [f64; 4] {
     let mut s = [0.0; 4];
     for (bc, xc) in b.chunks_exact(4).zip(x.chunks_exact(4)) {
         for j in 0..4 {
             s[j] = M::madd(bc[j], xc[j], s[j]);
         }
     }
+    s
+}
+
+/// The sum of four lanes, pairwise.
+#[inline(always)]
+fn sum4(s: [f64; 4]) -> f64 {
     (s[0] + s[2]) + (s[1] + s[3])
 }

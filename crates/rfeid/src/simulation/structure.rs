@@ -7,7 +7,8 @@ use crate::model::geometry::{attachment, block_diag, point_direction_row};
 use crate::model::{Attachment, Law, Model, SensorKind, Value};
 use nalgebra::{Matrix3, Vector3};
 
-/// A sparse row over the generalized coordinates: one or two 6-blocks.
+/// A sparse row over the generalized coordinates by its nonzero 6-blocks:
+/// one or two for a component, a load or a sensor.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
     /// `(first coordinate, coefficients)` for each block.
@@ -15,6 +16,21 @@ pub struct Row {
 }
 
 impl Row {
+    /// The nonzero 6-blocks of a dense vector (body b's block starts at 6b).
+    pub fn from_dense(v: &[f64]) -> Row {
+        let blocks = v
+            .chunks(6)
+            .enumerate()
+            .filter(|(_, c)| c.iter().any(|x| *x != 0.0))
+            .map(|(b, c)| {
+                let mut a = [0.0; 6];
+                a[..c.len()].copy_from_slice(c);
+                (6 * b, a)
+            })
+            .collect();
+        Row { blocks }
+    }
+
     /// `row · q`.
     #[inline(always)]
     pub fn dot(&self, q: &[f64]) -> f64 {
@@ -97,8 +113,9 @@ pub struct Structure {
     pub components: Vec<ComponentRow>,
     /// Generalized force of a unit excitation, per excitation (dense, length n).
     pub loads: Vec<Vec<f64>>,
-    /// Sensor maps: `y = h · q` (or q̇, q̈), per sensor (dense, length n).
-    pub sensors: Vec<(SensorKind, Vec<f64>)>,
+    /// Sensor maps: `y = h · q` (or q̇, q̈), per sensor, by the blocks of
+    /// the body it sits on.
+    pub sensors: Vec<(SensorKind, Row)>,
     /// Gravity in each body's frame, per body (zero without gravity).
     pub gravity_local: Vec<Vector3<f64>>,
     /// For each parameter, where it is used.
@@ -175,7 +192,7 @@ impl Structure {
             .map(|s| {
                 let mut h = vec![0.0; n];
                 point_row(s.body, &s.at, &s.direction, 1.0, &mut h);
-                (s.kind, h)
+                (s.kind, Row::from_dense(&h))
             })
             .collect();
         let g = model.gravity.unwrap_or_else(Vector3::zeros);

@@ -11,8 +11,8 @@
 use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
 use super::preload::{power_change, Preload};
-use super::sparse::{prefer_sparse, sparse_accel, sparse_components};
-use super::sparse::{BlockVec, SparseComp, SparsePower};
+use super::sparse::{element_ranges, prefer_sparse, sparse_accel, sparse_components};
+use super::sparse::{SparseComp, SparsePower};
 use super::structure::{Row, Structure};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
@@ -108,8 +108,10 @@ pub struct System<'a> {
     pub(crate) comps: Vec<SparseComp>,
     /// The power-law springs of `comps`, in component order (as `power`).
     pub(crate) powers: Vec<SparsePower>,
+    /// The elements' ranges of `comps` ([`element_ranges`]).
+    elements: Vec<(usize, usize)>,
     /// `M⁻¹ L_e` per excitation by nonzero 6-blocks, for the sparse kernel.
-    pub(crate) minv_load_blocks: Vec<BlockVec>,
+    pub(crate) minv_load_blocks: Vec<Row>,
 }
 
 impl<'a> System<'a> {
@@ -205,7 +207,7 @@ impl<'a> System<'a> {
             };
             (k, comp.damping.eval(params), comp.law.power_spring(params))
         });
-        let minv_load_blocks = minv_loads.iter().map(|l| BlockVec::from_dense(l)).collect();
+        let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
         let sparse = prefer_sparse(n, comps.len(), power.len(), 0);
         let mut sys = System {
             power_b: Vec::new(),
@@ -218,6 +220,7 @@ impl<'a> System<'a> {
             ext_cols: 0,
             gravity_panels: Vec::new(),
             sparse: true,
+            elements: element_ranges(&comps),
             comps,
             powers,
             minv_load_blocks,
@@ -353,7 +356,7 @@ impl<'a> System<'a> {
         let (y, acc) = (&y[..2 * n], &mut acc[..n]);
         if self.sparse {
             let (g, loads) = (&self.base, &self.minv_load_blocks);
-            let comps = (&self.comps[..], &self.powers[..]);
+            let comps = (&self.comps[..], &self.powers[..], &self.elements[..]);
             return sparse_accel::<M>(comps, g, loads, forces, y, acc);
         }
         let slots = self.power_am.len();
