@@ -1,6 +1,7 @@
 //! Simulation of the equations of motion (eq. 1) with forward sensitivities,
 //! static equilibrium and modal analysis.
 pub mod aliasing;
+mod aligned;
 mod calibration;
 mod columns;
 mod dim;

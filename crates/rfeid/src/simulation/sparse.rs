@@ -12,16 +12,19 @@ use super::preload::{power_change, Preload};
 use super::structure::{Row, Structure};
 use crate::model::PowerSpring;
 
-/// One component row with its coefficients at one parameter point.
+/// One component row with its coefficients at one parameter point,
+/// starting on a cache line so that four-lane loads of its rows never
+/// straddle two lines.
 #[derive(Debug, Clone)]
+#[repr(C, align(64))]
 pub(crate) struct SparseComp {
-    /// First coordinate of each of the (one or two) blocks; a ground
-    /// element repeats its block with zero coefficients.
-    pub off: [usize; 2],
     /// B_i, both blocks (12).
     pub b: [f64; 12],
     /// `−M⁻¹ B_iᵀ`, both blocks (12).
     pub g: [f64; 12],
+    /// First coordinate of each of the (one or two) blocks; a ground
+    /// element repeats its block with zero coefficients.
+    pub off: [usize; 2],
     /// Linear stiffness k (0 for none or a power law).
     pub k: f64,
     /// Damping c.

@@ -8,6 +8,7 @@
 //! allocates nothing; the sensitivities' right-hand side is in `tangent`.
 //! Runs under gravity move about the static equilibrium
 //! ([`System::set_reference`], `preload`).
+use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
 use super::preload::{power_change, Preload};
@@ -72,7 +73,7 @@ pub struct System<'a> {
     /// (`[panel][column][4]`, zero-padded): one product with
     /// `[q; q̇; f_p; P]`, started from the weight's `M⁻¹ × weight`
     /// ([`Self::gravity_panels`]), gives q̈ (eq. 1), accumulators in registers.
-    a_ext: Vec<f64>,
+    a_ext: Aligned,
     /// Columns of `a_ext`: 2n, then one per power-law slot, then one per
     /// excitation.
     ext_cols: usize,
@@ -85,7 +86,7 @@ pub struct System<'a> {
     /// `M⁻¹ × weight` (constant), n.
     pub minv_gravity: Vec<f64>,
     /// Power-law rows of B in 4-row panels, `[panel][coordinate][4]`, zero-padded.
-    power_b: Vec<f64>,
+    power_b: Aligned,
     /// `(a, m)` per power-law slot: the rows, padded to whole panels with `(0, 2)`.
     power_am: Vec<(f64, f64)>,
     /// The static deformation per power-law slot.
@@ -93,6 +94,8 @@ pub struct System<'a> {
     /// Whether every power law is a square (m = 2), the slideways' usual
     /// law: the dense kernel's four lanes then run without branches.
     power_square: bool,
+    /// Whether any power law has a static deformation to move about.
+    power_preloaded: bool,
     /// The constant part of the acceleration: `M⁻¹ × weight`, or zero once
     /// the run moves about the static equilibrium, whose elastic forces
     /// balance the weights ([`Self::set_reference`]).
@@ -210,13 +213,14 @@ impl<'a> System<'a> {
         let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
         let sparse = prefer_sparse(n, comps.len(), power.len(), 0);
         let mut sys = System {
-            power_b: Vec::new(),
+            power_b: Aligned::default(),
             power_am: Vec::new(),
             power_pre: Vec::new(),
             power_square: false,
+            power_preloaded: false,
             base: minv_gravity.clone(),
             static_dq: Vec::new(),
-            a_ext: Vec::new(),
+            a_ext: Aligned::default(),
             ext_cols: 0,
             gravity_panels: Vec::new(),
             sparse: true,
@@ -303,7 +307,9 @@ impl<'a> System<'a> {
             gravity_panels[i / 4][i % 4] = self.base[i];
         }
         self.power_square = power_am.iter().all(|(_, m)| *m == 2.0);
-        (self.power_b, self.power_am, self.a_ext) = (power_b, power_am, a_ext);
+        self.power_preloaded = power_pre.iter().any(|p| p.d0 != 0.0);
+        (self.power_b, self.a_ext) = (Aligned::from_slice(&power_b), Aligned::from_slice(&a_ext));
+        self.power_am = power_am;
         self.power_pre = power_pre;
         (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
     }
@@ -377,7 +383,12 @@ impl<'a> System<'a> {
                     d[i] = M::madd(b[i], qj, d[i]);
                 }
             }
-            if self.power_square {
+            if self.power_square && !self.power_preloaded {
+                // square_change(0, d), the same bits in fewer operations.
+                for i in 0..4 {
+                    f[i] = am[i].0 * (d[i] * d[i].abs());
+                }
+            } else if self.power_square {
                 for i in 0..4 {
                     f[i] = am[i].0 * square_change(pre[i].d0, d[i]);
                 }
