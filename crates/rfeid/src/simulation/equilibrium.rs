@@ -65,24 +65,48 @@ pub struct Equilibrium {
     pub iterations: usize,
 }
 
-/// The static residual `R(q)` (generalized elastic forces minus weights).
-fn residual(sys: &System<'_>, q: &[f64]) -> DVector<f64> {
+/// The static residual `R(q)` (generalized elastic forces minus weights),
+/// and for each row the sum of the magnitudes of its terms, the scale of its
+/// rounding: a long chain of stiff elements carries many bodies' weight
+/// through forces far above any one weight, and their sum cannot vanish to
+/// better than a few ulps of them.
+fn residual(sys: &System<'_>, q: &[f64]) -> (DVector<f64>, DVector<f64>) {
     let n = sys.n;
     let mut r = DVector::zeros(n);
+    let mut size = DVector::zeros(n);
     for i in 0..n {
         let row = &sys.a_lin[i * 2 * n..i * 2 * n + n];
-        let kq: f64 = row.iter().zip(q).map(|(a, q)| a * q).sum();
-        r[i] = -kq / sys.minv[i] - sys.minv_gravity[i] / sys.minv[i];
+        let (mut kq, mut abs) = (0.0, 0.0);
+        for (a, q) in row.iter().zip(q) {
+            kq += a * q;
+            abs += (a * q).abs();
+        }
+        let weight = sys.minv_gravity[i] / sys.minv[i];
+        r[i] = -kq / sys.minv[i] - weight;
+        size[i] = abs / sys.minv[i] + weight.abs();
     }
     for pr in &sys.power {
         let (f, _) = power_law(pr.a, pr.m, pr.row.dot(q));
         pr.row.axpy(f, r.as_mut_slice());
+        pr.row.axpy(f.abs(), size.as_mut_slice());
     }
-    r
+    size.iter_mut().for_each(|s| *s = s.abs());
+    (r, size)
+}
+
+/// Whether the residual is zero to the tolerance `tol` or to the rounding of
+/// its terms (`size`, [`residual`]), whichever is larger.
+fn balanced(res: &DVector<f64>, size: &DVector<f64>, tol: f64) -> bool {
+    res.iter()
+        .zip(size.iter())
+        .all(|(r, s)| r.abs() <= tol.max(64.0 * f64::EPSILON * s))
 }
 
 /// Solves for the static equilibrium under gravity; `wrt` selects the
-/// parameters whose sensitivities `∂q/∂x` are wanted.
+/// parameters whose sensitivities `∂q/∂x` are wanted. Newton's method stops
+/// when every row of the residual is within 1e-13 of the largest weight, or
+/// within 64 ulps of the sum of its terms' magnitudes where that is larger
+/// (stiff chains carrying many bodies; see `residual`).
 pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium, SimulationError> {
     let n = sys.n;
     let weight_norm = (0..n)
@@ -93,11 +117,11 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
         Ordering::new(n, &sys.tangent_stiffness(&vec![0.0; n]), &rows)
     });
     let mut q = vec![0.0; n];
-    let mut res = residual(sys, &q);
+    let (mut res, mut size) = residual(sys, &q);
     let tol = 1e-13 * weight_norm.max(f64::MIN_POSITIVE);
     let mut mu = 0.0;
     let mut iterations = 0;
-    while res.amax() > tol {
+    while !balanced(&res, &size, tol) {
         iterations += 1;
         if iterations > 200 {
             return Err(SimulationError::NoEquilibrium {
@@ -119,10 +143,10 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
             let mut step: Vec<f64> = res.iter().map(|v| -v).collect();
             if Factor::new(n, &kt, ordering.as_ref()).solve(&mut step) {
                 let trial: Vec<f64> = q.iter().zip(&step).map(|(q, s)| q + s).collect();
-                let tres = residual(sys, &trial);
+                let (tres, tsize) = residual(sys, &trial);
                 if tres.norm() < res.norm() && tres.iter().all(|v| v.is_finite()) {
                     q = trial;
-                    res = tres;
+                    (res, size) = (tres, tsize);
                     mu = if mu < 1e-12 { 0.0 } else { mu * 0.1 };
                     accepted = true;
                     break;
