@@ -3,8 +3,8 @@
 //! The equilibrium is solved by Newton's method to a residual of 1e-13 of the
 //! largest weight (or, where larger, 64 ulps of the sum of the magnitudes of
 //! the residual's terms, as in case 4), which bounds the position error by
-//! about 1e-13 of the deflection times the stiffness ratios here (< 10); the coordinates are
-//! checked to 1e-12 relative. Newton's last step is quadratic, so the
+//! about 1e-13 of the deflection times the stiffness ratios here (< 10);
+//! the coordinates are checked to 1e-12 relative. Newton's last step is quadratic, so the
 //! measured errors are at rounding (≤ 5e-16). The iteration counts are
 //! checked too (1 for linear springs; 8 measured for power laws).
 //!

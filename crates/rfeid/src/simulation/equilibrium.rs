@@ -88,9 +88,12 @@ fn residual(sys: &System<'_>, q: &[f64]) -> (DVector<f64>, DVector<f64>) {
     for pr in &sys.power {
         let (f, _) = power_law(pr.a, pr.m, pr.row.dot(q));
         pr.row.axpy(f, r.as_mut_slice());
-        pr.row.axpy(f.abs(), size.as_mut_slice());
+        for (off, c) in &pr.row.blocks {
+            for (s, c) in size.as_mut_slice()[*off..*off + 6].iter_mut().zip(c) {
+                *s += (c * f).abs();
+            }
+        }
     }
-    size.iter_mut().for_each(|s| *s = s.abs());
     (r, size)
 }
 
