@@ -26,7 +26,6 @@ use super::columns::group_size;
 use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
 use super::madd::{Fused, Madd, Separate};
-use super::sparse::prefer_sparse;
 use super::stepper::Stepper;
 pub use super::stepper::Workspace;
 use super::steps::{choose_steps, estimate_error, fastest_mode_hz, StepChoice};
@@ -377,13 +376,8 @@ impl<'m> Simulator<'m> {
         let mut sys = self.system(params)?;
         let n = sys.n;
         let r = wrt.len();
-        let width = if sens.is_some() {
-            r.next_multiple_of(4)
-        } else {
-            0
-        };
         sys.set_sparse(match self.kernel {
-            Kernel::Auto => prefer_sparse(n, sys.comps.len(), sys.power.len(), width),
+            Kernel::Auto => sys.prefers_sparse(),
             Kernel::Dense => false,
             Kernel::Sparse => true,
         });

@@ -5,8 +5,9 @@
 //! acceleration costs a few dozen operations per component instead of the
 //! dense kernel's `n (2n + …)` (`system`). Each component carries its whole
 //! force `f_i = k_i δ_i + law_i(δ_i) + c_i δ̇_i` (eq. 2–7) and adds
-//! `f_i · (−M⁻¹ B_iᵀ)` to the acceleration. The dense kernel is faster for a
-//! few bodies; [`prefer_sparse`] chooses by the operation counts.
+//! `f_i · (−M⁻¹ B_iᵀ)` to the acceleration; the kernel takes the components
+//! of an element four at a time, one per register lane ([`SparseGroup`]).
+//! The dense kernel is faster for a few bodies; [`prefer_sparse`] chooses.
 use super::madd::Madd;
 use super::preload::{power_change, Preload};
 use super::structure::{Row, Structure};
@@ -105,39 +106,96 @@ pub(crate) fn sparse_components(
     (comps, powers)
 }
 
-/// The ranges of consecutive components that share their blocks (one
-/// element's components), as `(start, end)`.
-pub(crate) fn element_ranges(comps: &[SparseComp]) -> Vec<(usize, usize)> {
-    let mut ranges: Vec<(usize, usize)> = Vec::new();
-    for (i, comp) in comps.iter().enumerate() {
-        match ranges.last_mut() {
-            Some(last) if comps[last.0].off == comp.off => last.1 = i + 1,
-            _ => ranges.push((i, i + 1)),
-        }
-    }
-    ranges
+/// Up to four components of one element (or of elements between the same
+/// two bodies), transposed so that the kernel computes their four
+/// deformations in the four lanes of one register: the accelerations' unit
+/// of work ([`sparse_accel`]).
+#[derive(Debug, Clone)]
+#[repr(C, align(64))]
+pub(crate) struct SparseGroup {
+    /// `bt[j][l]`: entry j of lane l's row of B (zero in an unused lane).
+    pub bt: [[f64; 4]; 12],
+    /// Linear stiffness per lane.
+    pub k: [f64; 4],
+    /// Damping per lane.
+    pub c: [f64; 4],
+    /// `−M⁻¹ B_lᵀ` per lane, in register-sized pieces (zero in an unused
+    /// lane).
+    pub g: [[[f64; 4]; 3]; 4],
+    /// The components' blocks ([`SparseComp::off`]).
+    pub off: [usize; 2],
+    /// Whether the second block is a body's (not a ground element's).
+    pub second: bool,
+    /// Whether any lane has a power-law spring.
+    pub any_power: bool,
+    /// The power-law spring of each lane in the [`SparsePower`] list.
+    pub power: [Option<u32>; 4],
 }
 
-/// Whether the element-by-element kernel does fewer operations than the
-/// dense one for `n` coordinates, `components` component rows of which
-/// `power` are power laws, and `width` sensitivity columns (0 for none).
+/// The components in groups of at most four consecutive ones that share
+/// their blocks ([`SparseGroup`]).
+pub(crate) fn sparse_groups(comps: &[SparseComp]) -> Vec<SparseGroup> {
+    let mut groups: Vec<SparseGroup> = Vec::new();
+    let mut lanes = 0;
+    for comp in comps {
+        match groups.last_mut() {
+            Some(last) if last.off == comp.off && lanes < 4 => lanes += 1,
+            _ => {
+                groups.push(SparseGroup {
+                    bt: [[0.0; 4]; 12],
+                    k: [0.0; 4],
+                    c: [0.0; 4],
+                    g: [[[0.0; 4]; 3]; 4],
+                    off: comp.off,
+                    second: comp.off[1] != comp.off[0],
+                    any_power: false,
+                    power: [None; 4],
+                });
+                lanes = 1;
+            }
+        }
+        let (group, l) = (groups.last_mut().expect("pushed"), lanes - 1);
+        for (j, b) in comp.b.iter().enumerate() {
+            group.bt[j][l] = *b;
+        }
+        group.k[l] = comp.k;
+        group.c[l] = comp.c;
+        for (j, g) in comp.g.iter().enumerate() {
+            group.g[l][j / 4][j % 4] = *g;
+        }
+        group.power[l] = comp.power;
+        group.any_power |= comp.power.is_some();
+    }
+    groups
+}
+
+/// Whether the element-by-element kernel is the faster one for `n`
+/// coordinates with `power` power-law rows and `groups` [`SparseGroup`]s.
 ///
-/// Per stage, the dense kernel multiplies `n × (2n + power)` (and, with
-/// sensitivities, `n × 2n` per column); the sparse one about 40 operations
-/// per component (and 36 per component and column), plus its scattered
-/// memory access, counted as a factor of two.
-pub(crate) fn prefer_sparse(n: usize, components: usize, power: usize, width: usize) -> bool {
-    let dense = n * (2 * n + 2 * power) + width * 2 * n * n;
-    let sparse = 2 * (40 * components + 36 * components * width);
-    sparse < dense
+/// Costs per stage in units of the dense kernel's time per multiply–add,
+/// fitted to timings of both kernels on the knee–column and on generated
+/// machine tools of 2–8 bodies (`examples/kernels.rs`): `2n(n + power)` for
+/// the dense kernel, 100 per group for the sparse one. The choice ignores
+/// the sensitivities, so that a run's response is the same bit for bit with
+/// or without them (a Jacobian and the criterion it is compared with come
+/// from the same simulation); in those timings the kernel that is faster
+/// for the state alone was also within 5 % of the faster with 16
+/// sensitivities, or faster.
+pub(crate) fn prefer_sparse(n: usize, power: usize, groups: usize) -> bool {
+    100 * groups < 2 * n * (n + power)
 }
 
 /// `acc = base + M⁻¹(Σ_e L_e P_e − Σ_i B_iᵀ f_i)` for the state `y = [q;
 /// q̇]`; `base` is `M⁻¹ × weight`, or zero for the deviation from the static
 /// equilibrium, whose power-law forces are then changes (`preload`).
+///
+/// Per group of four components: δ and δ̇ in four lanes, block by block
+/// (`δ = B_i⁽⁰⁾ q⁽⁰⁾ + B_i⁽¹⁾ q⁽¹⁾`, the sensitivity kernel's order), the forces
+/// `f = k δ + c δ̇ (+ law(δ))` (eq. 2–7), then `Σ_l f_l (−M⁻¹ B_lᵀ)` added to
+/// the two bodies' accelerations.
 #[inline(always)]
 pub(crate) fn sparse_accel<M: Madd>(
-    (comps, powers, elements): (&[SparseComp], &[SparsePower], &[(usize, usize)]),
+    (groups, powers): (&[SparseGroup], &[SparsePower]),
     base: &[f64],
     minv_loads: &[Row],
     forces: &[f64],
@@ -155,57 +213,53 @@ pub(crate) fn sparse_accel<M: Madd>(
             }
         }
     }
-    // The components of one element are consecutive and share their
-    // blocks: gather the blocks once, sum the element's forces in
-    // registers, scatter once.
-    for &(start, end) in elements {
-        let [o0, o1] = comps[start].off;
-        let (mut x, mut xv) = ([0.0; 12], [0.0; 12]);
-        x[..6].copy_from_slice(&q[o0..o0 + 6]);
-        x[6..].copy_from_slice(&q[o1..o1 + 6]);
-        xv[..6].copy_from_slice(&v[o0..o0 + 6]);
-        xv[6..].copy_from_slice(&v[o1..o1 + 6]);
-        let mut fg = [0.0; 12];
-        for comp in &comps[start..end] {
-            // k δ + c δ̇ lane by lane, then one sum across the lanes.
-            let (d, dv) = (lanes12::<M>(&comp.b, &x), lanes12::<M>(&comp.b, &xv));
-            let mut lin = [0.0; 4];
-            for j in 0..4 {
-                lin[j] = M::madd(comp.c, dv[j], comp.k * d[j]);
-            }
-            let mut f = sum4(lin);
-            if let Some(p) = comp.power(powers) {
-                f += power_change(p.spring.coef, p.spring.m, &p.pre, sum4(d)).0;
-            }
-            for (a, g) in fg.iter_mut().zip(&comp.g) {
-                *a = M::madd(f, *g, *a);
+    for group in groups {
+        let [o0, o1] = group.off;
+        // A ground element's second block is zero: adding its zero terms
+        // costs less than a branch.
+        let (d0, dv0) = block_lanes::<M>(&group.bt[..6], &q[o0..o0 + 6], &v[o0..o0 + 6]);
+        let (d1, dv1) = block_lanes::<M>(&group.bt[6..], &q[o1..o1 + 6], &v[o1..o1 + 6]);
+        let (mut d, mut dv, mut kd) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+        for l in 0..4 {
+            d[l] = d0[l] + d1[l];
+            dv[l] = dv0[l] + dv1[l];
+            kd[l] = group.k[l] * d[l];
+        }
+        let mut f = M::madd4(group.c, dv, kd);
+        if group.any_power {
+            for (f, (power, d)) in f.iter_mut().zip(group.power.iter().zip(d)) {
+                if let Some(j) = power {
+                    let p = &powers[*j as usize];
+                    *f += power_change(p.spring.coef, p.spring.m, &p.pre, d).0;
+                }
             }
         }
-        for (a, f) in acc[o0..o0 + 6].iter_mut().zip(&fg[..6]) {
-            *a += f;
+        let mut s = [[0.0; 4]; 3];
+        for (f, g) in f.iter().zip(&group.g) {
+            for (s, g) in s.iter_mut().zip(g) {
+                *s = M::madd4([*f; 4], *g, *s);
+            }
         }
-        for (a, f) in acc[o1..o1 + 6].iter_mut().zip(&fg[6..]) {
-            *a += f;
+        let s = s.as_flattened();
+        for (a, s) in acc[o0..o0 + 6].iter_mut().zip(&s[..6]) {
+            *a += s;
+        }
+        if group.second {
+            for (a, s) in acc[o1..o1 + 6].iter_mut().zip(&s[6..]) {
+                *a += s;
+            }
         }
     }
 }
 
-/// `b · x` for 12-vectors as four interleaved partial sums (one SIMD
-/// register's lanes), so that the products are not one dependent chain;
-/// [`sum4`] adds them up.
+/// `(Σ_i bt[i] x[i], Σ_i bt[i] v[i])` over one block's six coordinates, in
+/// four lanes.
 #[inline(always)]
-fn lanes12<M: Madd>(b: &[f64; 12], x: &[f64; 12]) -> [f64; 4] {
-    let mut s = [0.0; 4];
-    for (bc, xc) in b.chunks_exact(4).zip(x.chunks_exact(4)) {
-        for j in 0..4 {
-            s[j] = M::madd(bc[j], xc[j], s[j]);
-        }
+fn block_lanes<M: Madd>(bt: &[[f64; 4]], x: &[f64], v: &[f64]) -> ([f64; 4], [f64; 4]) {
+    let (mut d, mut dv) = ([0.0; 4], [0.0; 4]);
+    for i in 0..6 {
+        d = M::madd4(bt[i], [x[i]; 4], d);
+        dv = M::madd4(bt[i], [v[i]; 4], dv);
     }
-    s
-}
-
-/// The sum of four lanes, pairwise.
-#[inline(always)]
-fn sum4(s: [f64; 4]) -> f64 {
-    (s[0] + s[2]) + (s[1] + s[3])
+    (d, dv)
 }

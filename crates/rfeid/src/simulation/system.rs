@@ -12,8 +12,8 @@ use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
 use super::madd::{Madd, Separate};
 use super::preload::{power_change, Preload};
-use super::sparse::{element_ranges, prefer_sparse, sparse_accel, sparse_components};
-use super::sparse::{SparseComp, SparsePower};
+use super::sparse::{prefer_sparse, sparse_accel, sparse_components, sparse_groups};
+use super::sparse::{SparseComp, SparseGroup, SparsePower};
 use super::structure::{Row, Structure};
 use super::SimulationError;
 use crate::model::{Law, Model, Signal};
@@ -111,8 +111,8 @@ pub struct System<'a> {
     pub(crate) comps: Vec<SparseComp>,
     /// The power-law springs of `comps`, in component order (as `power`).
     pub(crate) powers: Vec<SparsePower>,
-    /// The elements' ranges of `comps` ([`element_ranges`]).
-    elements: Vec<(usize, usize)>,
+    /// `comps` in groups of four for the accelerations ([`sparse_groups`]).
+    groups: Vec<SparseGroup>,
     /// `M⁻¹ L_e` per excitation by nonzero 6-blocks, for the sparse kernel.
     pub(crate) minv_load_blocks: Vec<Row>,
 }
@@ -211,7 +211,6 @@ impl<'a> System<'a> {
             (k, comp.damping.eval(params), comp.law.power_spring(params))
         });
         let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
-        let sparse = prefer_sparse(n, comps.len(), power.len(), 0);
         let mut sys = System {
             power_b: Aligned::default(),
             power_am: Vec::new(),
@@ -224,7 +223,7 @@ impl<'a> System<'a> {
             ext_cols: 0,
             gravity_panels: Vec::new(),
             sparse: true,
-            elements: element_ranges(&comps),
+            groups: sparse_groups(&comps),
             comps,
             powers,
             minv_load_blocks,
@@ -238,8 +237,14 @@ impl<'a> System<'a> {
             minv_loads,
             minv_gravity,
         };
-        sys.set_sparse(sparse);
+        sys.set_sparse(sys.prefers_sparse());
         Ok(sys)
+    }
+
+    /// Whether the element-by-element kernel is the faster one for this
+    /// model ([`prefer_sparse`]).
+    pub(crate) fn prefers_sparse(&self) -> bool {
+        prefer_sparse(self.n, self.power.len(), self.groups.len())
     }
 
     /// Chooses the kernel: element by element (`sparse`) or dense panels,
@@ -362,7 +367,7 @@ impl<'a> System<'a> {
         let (y, acc) = (&y[..2 * n], &mut acc[..n]);
         if self.sparse {
             let (g, loads) = (&self.base, &self.minv_load_blocks);
-            let comps = (&self.comps[..], &self.powers[..], &self.elements[..]);
+            let comps = (&self.groups[..], &self.powers[..]);
             return sparse_accel::<M>(comps, g, loads, forces, y, acc);
         }
         let slots = self.power_am.len();
