@@ -21,16 +21,59 @@ use super::tangent::force_derivative;
 /// The identified parameters acting on one component: (column, usage).
 pub(crate) type ComponentUsages = Vec<(usize, Usage)>;
 
+/// A component's nonzero entries of B, in the order of
+/// [`SparseComp::nonzero`], laid out for rows of the sensitivities `width`
+/// long: where each entry's row starts (coordinate × width), and its
+/// entries of B and of `−M⁻¹Bᵀ`. Built once per run, so that the kernel's
+/// inner loops only load.
+#[derive(Debug, Clone)]
+pub(crate) struct Entries {
+    at: [usize; 12],
+    b: [f64; 12],
+    g: [f64; 12],
+    len: usize,
+}
+
+impl Entries {
+    /// The entries of `comp` for rows `width` long.
+    pub fn new(comp: &SparseComp, width: usize) -> Entries {
+        let mut e = Entries {
+            at: [0; 12],
+            b: [0.0; 12],
+            g: [0.0; 12],
+            len: 0,
+        };
+        for j in Nonzero(comp.nonzero) {
+            e.at[e.len] = (comp.off[j / 6] + j % 6) * width;
+            e.b[e.len] = comp.b[j];
+            e.g[e.len] = comp.g[j];
+            e.len += 1;
+        }
+        e
+    }
+
+    /// `(row start, B entry, −M⁻¹Bᵀ entry)` of each nonzero entry.
+    #[inline(always)]
+    fn iter(&self) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
+        let at = &self.at[..self.len];
+        at.iter()
+            .zip(&self.b)
+            .zip(&self.g)
+            .map(|((a, b), g)| (*a, *b, *g))
+    }
+}
+
 /// `dacc = Σ_i g_i (slope_i B_i Y_q + c_i B_i Y_v + ∂f_i/∂x)` (n rows of
 /// `width`, a multiple of four) at the state `(q, v)`, for the
 /// sensitivities `sy` (2n rows of `width`); `usages[i]` lists the
-/// parameters (column, usage) acting on component i. About a static
-/// equilibrium (`preload`), `statics[i]` is `B_i ∂q₀/∂x` (empty if not
-/// needed), which adds `g_i (slope_i − slope_i(δ₀)) B_i ∂q₀/∂x`.
+/// parameters (column, usage) acting on component i, and `entries[i]` its
+/// nonzero entries for rows `width` long. About a static equilibrium
+/// (`preload`), `statics[i]` is `B_i ∂q₀/∂x` (empty if not needed), which
+/// adds `g_i (slope_i − slope_i(δ₀)) B_i ∂q₀/∂x`.
 #[inline(always)]
 pub(crate) fn sparse_tangent<M: Madd>(
     sys: &System<'_>,
-    (usages, statics): (&[ComponentUsages], &[Vec<f64>]),
+    (usages, statics, entries): (&[ComponentUsages], &[Vec<f64>], &[Entries]),
     (q, v): (&[f64], &[f64]),
     sy: &[f64],
     width: usize,
@@ -39,7 +82,8 @@ pub(crate) fn sparse_tangent<M: Madd>(
     let n = q.len();
     let (yq, yv) = sy[..2 * n * width].split_at(n * width);
     dacc.fill(0.0);
-    for ((comp, usages), statics) in sys.comps.iter().zip(usages).zip(statics) {
+    let per_component = usages.iter().zip(statics).zip(entries);
+    for (comp, ((usages, statics), entries)) in sys.comps.iter().zip(per_component) {
         let [o0, o1] = comp.off;
         let mut d = [0.0; 2];
         for i in 0..6 {
@@ -67,14 +111,14 @@ pub(crate) fn sparse_tangent<M: Madd>(
             change,
             statics,
         };
-        let rows = [o0, o1];
+        let (rows, comp) = ([o0, o1], (comp, entries));
         let mut c0 = 0;
         while c0 + 8 <= width {
-            component_columns::<M, 8>(comp, &explicit, slope, rows, (yq, yv), width, c0, dacc);
+            component_columns::<M, 8>(comp, &explicit, slope, rows, (yq, yv), c0, dacc);
             c0 += 8;
         }
         if c0 < width {
-            component_columns::<M, 4>(comp, &explicit, slope, rows, (yq, yv), width, c0, dacc);
+            component_columns::<M, 4>(comp, &explicit, slope, rows, (yq, yv), c0, dacc);
         }
     }
 }
@@ -99,14 +143,12 @@ struct Explicit<'a> {
 
 /// Columns `c0..c0 + W` of one component's contribution to `dacc`.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn component_columns<M: Madd, const W: usize>(
-    comp: &SparseComp,
+    (comp, entries): (&SparseComp, &Entries),
     e: &Explicit<'_>,
     slope: f64,
     [o0, o1]: [usize; 2],
     (yq, yv): (&[f64], &[f64]),
-    width: usize,
     c0: usize,
     dacc: &mut [f64],
 ) {
@@ -135,10 +177,9 @@ fn component_columns<M: Madd, const W: usize>(
             });
         }
     }
-    for j in Nonzero(comp.nonzero) {
-        let row = [o0, o1][j / 6] + j % 6;
-        let (bs, bc) = (slope * comp.b[j], comp.c * comp.b[j]);
-        let at = row * width + c0;
+    for (at, b, _) in entries.iter() {
+        let (bs, bc) = (slope * b, comp.c * b);
+        let at = at + c0;
         let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
         for l in 0..W {
             s[l] = M::madd(bs, xq[l], s[l]);
@@ -148,12 +189,11 @@ fn component_columns<M: Madd, const W: usize>(
     for l in 0..W {
         s[l] += t[l];
     }
-    for j in Nonzero(comp.nonzero) {
-        let row = [o0, o1][j / 6] + j % 6;
-        let at = row * width + c0;
+    for (at, _, g) in entries.iter() {
+        let at = at + c0;
         let out = &mut dacc[at..at + W];
         for l in 0..W {
-            out[l] = M::madd(comp.g[j], s[l], out[l]);
+            out[l] = M::madd(g, s[l], out[l]);
         }
     }
 }

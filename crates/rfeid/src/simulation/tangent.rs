@@ -25,7 +25,7 @@
 use super::dim::Dim;
 use super::madd::Madd;
 use super::preload::{exponent_change, power_change, Preload};
-use super::sparse_tangent::sparse_tangent;
+use super::sparse_tangent::{sparse_tangent, Entries};
 use super::structure::{Row, Usage};
 use super::system::{power_law, System};
 use crate::model::{Law, PowerSpring};
@@ -67,6 +67,9 @@ pub(crate) struct Tangent {
     /// For each component row, `B_i ∂q₀/∂x` ([`static_columns`]). Empty
     /// unless `sparse`.
     component_statics: Vec<Vec<f64>>,
+    /// For each component row, its nonzero entries for rows `width` long.
+    /// Empty unless `sparse`.
+    component_entries: Vec<Entries>,
 }
 
 impl Tangent {
@@ -83,6 +86,7 @@ impl Tangent {
                 sparse: sys.sparse,
                 component_usages: Vec::new(),
                 component_statics: Vec::new(),
+                component_entries: Vec::new(),
             };
         }
         // Usages per component first, so that the active components come in
@@ -122,6 +126,7 @@ impl Tangent {
                 sparse: true,
                 component_usages: usages,
                 component_statics,
+                component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
             };
         }
         let active = structure
@@ -152,6 +157,7 @@ impl Tangent {
             sparse: false,
             component_usages: Vec::new(),
             component_statics: Vec::new(),
+            component_entries: Vec::new(),
         }
     }
 
@@ -185,7 +191,11 @@ impl Tangent {
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
         if self.sparse {
-            let columns = (&self.component_usages[..], &self.component_statics[..]);
+            let columns = (
+                &self.component_usages[..],
+                &self.component_statics[..],
+                &self.component_entries[..],
+            );
             sparse_tangent::<M>(sys, columns, (q, v), sy, width, dacc);
             self.add_others(sys, (t, before), acc, dacc);
             return;
