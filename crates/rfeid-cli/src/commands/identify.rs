@@ -434,8 +434,11 @@ pub fn format_result(
     );
     let _ = writeln!(
         out,
-        "{} after {} iterations ({})",
-        r.termination_message, r.iterations, r.method
+        "{} after {} iteration{} ({})",
+        r.termination_message,
+        r.iterations,
+        if r.iterations == 1 { "" } else { "s" },
+        r.method
     );
     let _ = writeln!(
         out,
