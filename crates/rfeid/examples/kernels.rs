@@ -8,23 +8,15 @@ use rfeid::io::model_file::{load_model, parse_model};
 use rfeid::model::{Law, Model};
 use rfeid::simulation::{Kernel, Sensitivities, Simulator, Workspace};
 use std::path::Path;
-use std::time::Instant;
 
 #[path = "../tests/machine_tool/mod.rs"]
 mod machine_tool;
+mod support;
 
 /// Median of five timings of `f` after one untimed run, in ms.
 fn median_ms(mut f: impl FnMut()) -> f64 {
     f();
-    let mut t: Vec<f64> = (0..5)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    t[2]
+    support::median_ms(5, f)
 }
 
 /// `(components, power laws, nonzero entries of B, groups of ≤ 4 components

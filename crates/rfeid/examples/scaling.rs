@@ -7,23 +7,11 @@ use rfeid::io::model_file::{load_model, parse_model};
 use rfeid::model::Model;
 use rfeid::simulation::{Sensitivities, Simulator, Workspace};
 use std::path::Path;
-use std::time::Instant;
 
 #[path = "../tests/machine_tool/mod.rs"]
 mod machine_tool;
-
-/// Median of `reps` timings of `f`, in ms.
-fn median_ms(reps: usize, mut f: impl FnMut()) -> f64 {
-    let mut t: Vec<f64> = (0..reps)
-        .map(|_| {
-            let t0 = Instant::now();
-            f();
-            t0.elapsed().as_secs_f64() * 1e3
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    t[t.len() / 2]
-}
+mod support;
+use support::median_ms;
 
 /// `(steps per sample, plain ms, with-sensitivities ms)` of one model.
 fn time_model(model: &Model, reps: usize) -> (usize, f64, f64) {
