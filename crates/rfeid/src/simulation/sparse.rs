@@ -33,10 +33,6 @@ pub(crate) struct SparseComp {
     /// The index of its power-law spring in the [`SparsePower`] list, if it
     /// has one (kept out of the component, which the kernels stream).
     pub power: Option<u32>,
-    /// Bit j set where `b[j]` is nonzero: the entries a sensitivity kernel
-    /// visits (about a third of them when the element's axes are the
-    /// bodies'; a skipped term would add an exact zero).
-    pub nonzero: u16,
 }
 
 impl SparseComp {
@@ -87,10 +83,8 @@ pub(crate) fn sparse_components(
             if comp.row.blocks.len() < 2 {
                 off[1] = off[0];
             }
-            let mut nonzero = 0;
             for (j, gj) in g.iter_mut().enumerate() {
                 *gj = -b[j] * minv[off[j / 6] + j % 6];
-                nonzero |= u16::from(b[j] != 0.0) << j;
             }
             SparseComp {
                 off,
@@ -99,7 +93,6 @@ pub(crate) fn sparse_components(
                 k,
                 c,
                 power,
-                nonzero,
             }
         })
         .collect();

@@ -21,11 +21,13 @@ use super::tangent::force_derivative;
 /// The identified parameters acting on one component: (column, usage).
 pub(crate) type ComponentUsages = Vec<(usize, Usage)>;
 
-/// A component's nonzero entries of B, in the order of
-/// [`SparseComp::nonzero`], laid out for rows of the sensitivities `width`
-/// long: where each entry's row starts (coordinate × width), and its
-/// entries of B and of `−M⁻¹Bᵀ`. Built once per run, so that the kernel's
-/// inner loops only load.
+/// A component's nonzero entries of B, in the order a dense loop visits
+/// them, laid out for rows of the sensitivities `width` long: where each
+/// entry's row starts (coordinate × width), and its entries of B and of
+/// `−M⁻¹Bᵀ`. About a third of the entries are nonzero where an element's
+/// axes are its bodies'; a skipped term would add an exact zero, so the
+/// sums are unchanged. Built once per run, so that the kernel's inner
+/// loops only load.
 #[derive(Debug, Clone)]
 pub(crate) struct Entries {
     at: [usize; 12],
@@ -43,7 +45,7 @@ impl Entries {
             g: [0.0; 12],
             len: 0,
         };
-        for j in Nonzero(comp.nonzero) {
+        for j in (0..12).filter(|&j| comp.b[j] != 0.0) {
             e.at[e.len] = (comp.off[j / 6] + j % 6) * width;
             e.b[e.len] = comp.b[j];
             e.g[e.len] = comp.g[j];
@@ -195,23 +197,5 @@ fn component_columns<M: Madd, const W: usize>(
         for l in 0..W {
             out[l] = M::madd(g, s[l], out[l]);
         }
-    }
-}
-
-/// The set bits of a mask, lowest first: the nonzero entries of a
-/// component's row ([`SparseComp::nonzero`]), in the order a dense loop
-/// visits them, so that skipping the zeros leaves every sum unchanged.
-struct Nonzero(u16);
-
-impl Iterator for Nonzero {
-    type Item = usize;
-
-    #[inline(always)]
-    fn next(&mut self) -> Option<usize> {
-        (self.0 != 0).then(|| {
-            let j = self.0.trailing_zeros() as usize;
-            self.0 &= self.0 - 1;
-            j
-        })
     }
 }
