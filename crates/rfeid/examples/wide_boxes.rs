@@ -18,6 +18,7 @@
 #[path = "../tests/wide_cases/mod.rs"]
 mod wide_cases;
 
+use rfeid::identification::warning::Warning;
 use std::time::Instant;
 use wide_cases::{data, default_settings, example, run, widened, widened_text, worst_z, MODELS};
 
@@ -94,10 +95,10 @@ fn main() {
                     Some(false) => "suspect",
                     None => "none",
                 };
-                // "… N automatic restart(s) …": N, if any ran.
-                let restarted = r.warnings.iter().find_map(|w| {
-                    let head = &w[..w.find(" automatic restart")?];
-                    head.rsplit(' ').next().map(str::to_string)
+                // The automatic restarts, if any ran.
+                let restarted = r.warnings.iter().find_map(|w| match w {
+                    Warning::SideMinimum { restarts, .. } => Some(restarts.to_string()),
+                    _ => None,
                 });
                 cases += 1;
                 within += usize::from(z <= 3.0);

@@ -48,6 +48,7 @@ fn one_kilohertz_data_from_a_fine_step_lands_within_three_standard_errors() {
     assert!(
         r.warnings
             .iter()
+            .map(|w| w.to_string())
             .any(|w| w.contains("along its response") && w.contains("500 Hz")),
         "{:?}",
         r.warnings

@@ -12,6 +12,7 @@ use rfeid::identification::lm::LmSettings;
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{identify, Settings, Silent};
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::termination::StopReason;
 use rfeid::identification::uncertainty::UncertaintySettings;
 use rfeid::identification::verdict::{
     cluster_minima, ljung_box, noise_ratio, Reason, Side, StartEnd, Verdict,
@@ -225,7 +226,7 @@ fn the_iteration_limit_is_a_reason() {
         ..settings(8, 1)
     };
     let r = run(&truth(), data(0.01, 3), &s);
-    assert_eq!(r.termination, "MaxIterations");
+    assert_eq!(r.termination, StopReason::MaxIterations);
     let v = verdict(&r);
     assert_eq!(
         count(v, |r| matches!(r, Reason::IterationLimit { iterations: 1 })),

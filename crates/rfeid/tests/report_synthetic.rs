@@ -123,7 +123,7 @@ fn a_result_without_standard_errors_still_renders() {
     result.condition_number = None;
     result.s2 = None;
     result.uncertainty_error = Some("the Fisher matrix is singular".into());
-    result.termination = "MaxIterations".into();
+    result.termination = rfeid::identification::termination::StopReason::MaxIterations;
     result.termination_message = "stopped: the iteration limit was reached".into();
     let d = data(&model, 500);
     let files = write_report(
@@ -182,7 +182,9 @@ fn sizes_that_disagree_are_refused() {
 fn user_text_is_escaped() {
     let model = knee_column();
     let mut result = synthetic_result(&model, 0);
-    result.warnings = vec!["<script>alert(1)</script> & more".into()];
+    result.warnings = vec![rfeid::identification::warning::Warning::Recorded(
+        "<script>alert(1)</script> & more".into(),
+    )];
     let d = data(&model, 500);
     let mut inp = input(&model, &result, &d, None);
     inp.title = "a <b>bold</b> & \"quoted\" title".into();

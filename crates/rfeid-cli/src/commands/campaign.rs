@@ -11,11 +11,11 @@ use crate::outputs::Plan;
 use crate::ui::Ui;
 use rfeid::identification::output_error::{ExperimentData, OutputError};
 use rfeid::identification::pipeline::{identify, Start};
-use rfeid::identification::result::{ExperimentSummary, IdentificationResult};
+use rfeid::identification::result::{EstimateError, ExperimentSummary, IdentificationResult};
 use rfeid::io::data_file::read_measurement;
 use rfeid::measurement::{constant_sensors, fit_percent, match_data};
 use rfeid::model::{Model, Role};
-use rfeid::simulation::{Response, Simulator, Workspace};
+use rfeid::simulation::{Response, Simulator};
 use std::path::Path;
 
 /// Runs `identify` on the model's experiments.
@@ -89,7 +89,7 @@ fn fit(
         } else {
             args.search.from
         };
-        let first = (from * m.sampling.sample_rate - 1e-9).ceil().max(0.0) as usize;
+        let first = m.sampling.first_sample(from);
         if first + 2 > m.sampling.n_samples() {
             return Err(Failure::input_msg(format!(
                 "{}: experiment \"{}\", field 'from': leaves {} of the record's {} samples to fit",
@@ -161,8 +161,10 @@ fn validation(
     m: &Model,
     measured: &Response,
 ) -> Result<ExperimentSummary, Failure> {
-    let fitted = simulate_at_estimate(result, m, &x.name)?;
-    let first = (x.from * m.sampling.sample_rate - 1e-9).ceil().max(0.0) as usize;
+    let (fitted, steps) = result
+        .simulate_at_estimate(m, &x.name)
+        .map_err(estimate_failure)?;
+    let first = m.sampling.first_sample(x.from);
     Ok(ExperimentSummary {
         name: x.name.clone(),
         role: Role::Validation,
@@ -175,6 +177,7 @@ fn validation(
         fits: (0..m.sensors.len())
             .map(|c| fit_percent(&measured.sensor(c)[first..], &fitted.sensor(c)[first..]))
             .collect(),
+        steps: Some(steps),
     })
 }
 
@@ -185,15 +188,19 @@ pub fn simulate_at_estimate(
     m: &Model,
     experiment: &str,
 ) -> Result<Response, Failure> {
-    let x = result
-        .parameter_values(m, experiment)
-        .map_err(Failure::input_msg)?;
-    let sim = Simulator::choose(m, &x)
-        .map_err(|e| simulation_failure("simulating at the estimate", e))?;
-    let mut out = sim.response_buffer();
-    sim.run(&x, &mut Workspace::default(), &mut out)
-        .map_err(|e| simulation_failure("simulating at the estimate", e))?;
-    Ok(out)
+    Ok(result
+        .simulate_at_estimate(m, experiment)
+        .map_err(estimate_failure)?
+        .0)
+}
+
+/// A model that cannot be simulated at a result's estimate: a result of
+/// another model is bad input, a failed simulation as [`simulation_failure`].
+pub fn estimate_failure(e: EstimateError) -> Failure {
+    match e {
+        EstimateError::NotInModel(m) => Failure::input_msg(m),
+        EstimateError::Simulation(e) => simulation_failure("simulating at the estimate", e),
+    }
 }
 
 /// A missing data file is bad input naming the model file, the experiment

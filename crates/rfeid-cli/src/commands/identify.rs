@@ -283,7 +283,7 @@ pub fn prepare<'m>(
             a.from, s.duration
         )));
     }
-    let first = (a.from * s.sample_rate - 1e-9).ceil().max(0.0) as usize;
+    let first = s.first_sample(a.from);
     if first + 2 > s.n_samples() {
         return Err(Failure::input_msg(format!(
             "--from {}: leaves {} of the record's {} samples to fit",

@@ -145,7 +145,7 @@ fn cases(model: &Model, args: &ValidateArgs, ui: &Ui) -> Result<Vec<Case>, Failu
                 "--from {from}: must be a time ≥ 0 in seconds"
             )));
         }
-        let k = (from * m.sampling.sample_rate - 1e-9).ceil().max(0.0) as usize;
+        let k = m.sampling.first_sample(from);
         if k + 2 > m.sampling.n_samples() {
             return Err(Failure::input_msg(format!(
                 "--from {from}: leaves {} of the record's {} samples",

@@ -121,6 +121,23 @@ pub struct ExperimentSummary {
     /// measured signal.
     #[serde(default)]
     pub fits: Vec<Option<f64>>,
+    /// The integrator's steps per sample for this experiment, and their
+    /// estimated error at the estimate (`None` for a validation experiment
+    /// and in results written before they were recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<crate::simulation::StepChoice>,
+}
+
+/// Why a model could not be simulated at a result's estimate.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EstimateError {
+    /// The result does not belong to the model (the message names the
+    /// parameter).
+    #[error("{0}")]
+    NotInModel(String),
+    /// The simulation failed.
+    #[error(transparent)]
+    Simulation(crate::simulation::SimulationError),
 }
 
 /// Everything an identification found.
@@ -140,14 +157,15 @@ pub struct IdentificationResult {
     pub correlation: Option<Vec<Vec<f64>>>,
     /// Condition number of the column-scaled Fisher matrix H₁ᵀH₁.
     pub condition_number: Option<f64>,
-    /// Identifiability warnings, in words.
-    pub warnings: Vec<String>,
+    /// Warnings (identifiability, restarts, steps, aliasing), in words in
+    /// RESULT.json.
+    pub warnings: Vec<super::warning::Warning>,
     /// Why the bounds could not be computed, if they could not.
     pub uncertainty_error: Option<String>,
-    /// `lm` or `bfgs`.
-    pub method: String,
-    /// Why the local search stopped (machine-readable).
-    pub termination: String,
+    /// The local search method (`lm` or `bfgs`).
+    pub method: super::search::Method,
+    /// Why the local search stopped (machine-readable: the variant's name).
+    pub termination: super::termination::StopReason,
     /// Why the local search stopped, in words.
     pub termination_message: String,
     /// Iterations of the local search that gave the estimate.
@@ -205,18 +223,34 @@ impl IdentificationResult {
     ) -> Result<Vec<f64>, String> {
         let mut x = model.nominal();
         for p in &self.parameters {
-            let (name, of) = match p.name.strip_suffix(']').and_then(|n| n.split_once('[')) {
-                Some((name, e)) => (name, Some(e)),
-                None => (p.name.as_str(), None),
-            };
-            let i = model.parameter_index(name).ok_or_else(|| {
+            let column: crate::model::ColumnName = p.name.parse().expect("infallible");
+            let i = model.parameter_index(&column.name).ok_or_else(|| {
                 format!("the result's parameter '{}' is not in the model", p.name)
             })?;
-            if of.is_none_or(|e| e == experiment) {
+            if column.experiment.as_deref().is_none_or(|e| e == experiment) {
                 x[i] = p.estimate;
             }
         }
         Ok(x)
+    }
+
+    /// `model` simulated at the estimate, as experiment `experiment` sees it
+    /// ([`IdentificationResult::parameter_values`]), with steps per sample
+    /// chosen there for the model's tolerance: the response and the steps.
+    pub fn simulate_at_estimate(
+        &self,
+        model: &crate::model::Model,
+        experiment: &str,
+    ) -> Result<(crate::simulation::Response, crate::simulation::StepChoice), EstimateError> {
+        use crate::simulation::{Simulator, Workspace};
+        let x = self
+            .parameter_values(model, experiment)
+            .map_err(EstimateError::NotInModel)?;
+        let sim = Simulator::choose(model, &x).map_err(EstimateError::Simulation)?;
+        let mut out = sim.response_buffer();
+        sim.run(&x, &mut Workspace::default(), &mut out)
+            .map_err(EstimateError::Simulation)?;
+        Ok((out, sim.steps()))
     }
 
     /// `true` if a verdict was drawn and it is not trustworthy.

@@ -1,6 +1,6 @@
 //! How a local search ends: a [`StopReason`] when it ran, a [`SolveError`]
 //! when it could not start.
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 use super::problem::EvalError;
@@ -10,8 +10,9 @@ use super::problem::EvalError;
 /// The `Converged*` variants mean a tolerance was met; the others that the
 /// search gave up, in which case the returned point is still the best one
 /// found (every accepted step decreases J).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+///
+/// RESULT.json names a reason by its variant's name (`ConvergedDecrement`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum StopReason {
     /// The last step was shorter than the step tolerance.
     ConvergedStep,

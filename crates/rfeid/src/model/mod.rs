@@ -4,10 +4,12 @@
 //! ([`crate::io::model_file`]) or in code, and everything downstream trusts
 //! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
 //! a fixed number or a reference to a [`Parameter`].
+mod column_name;
 mod experiment;
 pub mod geometry;
 mod signal;
 
+pub use column_name::ColumnName;
 pub use experiment::{Experiment, Role};
 pub use signal::{Shape, Signal, Term};
 
@@ -338,6 +340,13 @@ impl Sampling {
     /// Time of sample k.
     pub fn time(&self, k: usize) -> f64 {
         k as f64 / self.sample_rate
+    }
+
+    /// The first sample at or after `from` seconds (`--from`, an
+    /// experiment's `from`): sample k is at k / sample_rate, and a `from`
+    /// within 10⁻⁹ of a sample's period of it counts as that sample.
+    pub fn first_sample(&self, from: f64) -> usize {
+        (from * self.sample_rate - 1e-9).ceil().max(0.0) as usize
     }
 
     /// The integrator's steps per sample in words: fixed, or automatic for

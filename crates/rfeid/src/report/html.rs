@@ -3,6 +3,7 @@ use super::fmt::{minus, seconds, sig, unit};
 use super::svg::escape;
 use super::{model_summary, Figure, ReportInput, SECTIONS};
 use crate::identification::result::{IdentificationResult, ParameterEstimate};
+use crate::identification::search::Method;
 use std::fmt::Write;
 
 const CSS: &str = "\
@@ -29,7 +30,7 @@ figcaption{font-size:12px;color:#555}\
 
 /// Whether the local search stopped on a convergence test.
 pub(crate) fn converged(r: &IdentificationResult) -> bool {
-    r.termination.starts_with("Converged") || r.termination.starts_with("converged")
+    r.termination.is_converged()
 }
 
 /// A parameter value (SI) in the parameter's display unit, 4 digits.
@@ -242,10 +243,9 @@ fn summary(out: &mut String, input: &ReportInput) {
             "method",
             format!(
                 "{} — {} iterations, {} simulations ({} with sensitivities, {} failed)",
-                match r.method.as_str() {
-                    "lm" => "Levenberg–Marquardt",
-                    "bfgs" => "BFGS",
-                    m => m,
+                match r.method {
+                    Method::Lm => "Levenberg–Marquardt",
+                    Method::Bfgs => "BFGS",
                 },
                 r.iterations,
                 r.simulations,
@@ -354,7 +354,7 @@ fn notes(input: &ReportInput) -> Vec<String> {
 fn warnings(out: &mut String, input: &ReportInput) {
     let r = input.result;
     section(out, "warnings");
-    let mut items: Vec<String> = r.warnings.clone();
+    let mut items: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
     if let Some(e) = &r.uncertainty_error {
         items.push(format!("Standard errors could not be computed: {e}"));
     }

@@ -276,7 +276,7 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
             caption: "Criterion J after each iteration of the local search that gave the \
                       estimate."
                 .into(),
-            svg: history::cost_figure(&r.history, &r.method),
+            svg: history::cost_figure(&r.history, &r.method.to_string()),
         });
         out.push(Figure {
             file: "history-parameters.svg".into(),

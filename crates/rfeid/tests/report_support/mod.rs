@@ -6,6 +6,9 @@
 use rfeid::identification::result::{
     IdentificationResult, Iterate, ParameterEstimate, PlanSummary, Timings,
 };
+use rfeid::identification::search::Method;
+use rfeid::identification::termination::StopReason;
+use rfeid::identification::warning::Warning;
 use rfeid::io::model_file::load_model;
 use rfeid::model::Model;
 use rfeid::simulation::Response;
@@ -77,10 +80,12 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         observations: 9000,
         correlation: Some(correlation),
         condition_number: Some(4.2e5),
-        warnings: vec!["a_n1 and h_n1 are correlated (ρ = 0.97)".into()],
+        warnings: vec![Warning::Recorded(
+            "a_n1 and h_n1 are correlated (ρ = 0.97)".into(),
+        )],
         uncertainty_error: None,
-        method: "lm".into(),
-        termination: "ConvergedCost".into(),
+        method: Method::Lm,
+        termination: StopReason::ConvergedCost,
         termination_message: "converged: the criterion stopped decreasing".into(),
         iterations: 5,
         simulations: 40,

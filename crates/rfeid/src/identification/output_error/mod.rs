@@ -22,9 +22,13 @@
 //! on its own is a campaign of one experiment.
 use super::box_map::BoxMap;
 use super::problem::LeastSquares;
-use crate::simulation::{Response, Sensitivities, SimulationError, Simulator, Workspace};
+use super::tally::{Counter, Tally};
+use crate::simulation::{Response, SimulationError, Simulator};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+
+mod part;
+use part::{Part, PartWorkspace};
 
 /// One experiment's data for [`OutputError::campaign`].
 #[derive(Debug, Clone)]
@@ -53,22 +57,6 @@ pub struct Column {
     pub name: String,
 }
 
-#[derive(Debug, Clone)]
-struct Part<'m> {
-    data: ExperimentData<'m>,
-    /// Sensor weights w_ec.
-    sensor_weights: Vec<f64>,
-    /// √(w_e w_ec) per sensor.
-    sqrt_weights: Vec<f64>,
-    /// The identified parameters (model indices) and their columns in u.
-    wrt: Vec<usize>,
-    cols: Vec<usize>,
-    /// Values of all parameters; the identified ones are overwritten.
-    base: Vec<f64>,
-    /// The part's first residual row.
-    row0: usize,
-}
-
 /// Model(s), data and weighting: the criterion J(u).
 #[derive(Debug, Clone)]
 pub struct OutputError<'m> {
@@ -77,19 +65,8 @@ pub struct OutputError<'m> {
     maps: Vec<BoxMap>,
     width: Vec<f64>,
     n_res: usize,
-}
-
-/// Scratch memory of one experiment's evaluation.
-#[derive(Debug, Clone)]
-struct PartWorkspace {
-    sim: Workspace,
-    response: Response,
-    sens: Sensitivities,
-    params: Vec<f64>,
-    /// dx/du of the part's identified parameters at the current u.
-    dx_du: Vec<f64>,
-    /// The part's rows of the Jacobian (campaigns only).
-    jac: DMatrix<f64>,
+    /// Every simulation run through this criterion (shared by its clones).
+    counter: Counter,
 }
 
 /// Scratch memory of one evaluation.
@@ -135,7 +112,7 @@ impl<'m> OutputError<'m> {
             let names: Vec<String> = match split {
                 true => experiments
                     .iter()
-                    .map(|e| format!("{}[{}]", p.name, e.name))
+                    .map(|e| crate::model::ColumnName::new(&p.name, &e.name).to_string())
                     .collect(),
                 false => vec![p.name.clone()],
             };
@@ -174,7 +151,32 @@ impl<'m> OutputError<'m> {
             maps,
             width,
             n_res: row0,
+            counter: Counter::default(),
         }
+    }
+
+    /// The simulations run through this criterion so far (its clones and
+    /// the criteria that [`OutputError::count_into`] joined included).
+    pub fn tally(&self) -> Tally {
+        self.counter.read()
+    }
+
+    /// Records simulations run on this criterion's models elsewhere (the
+    /// step checks).
+    pub fn record(&self, t: Tally) {
+        self.counter.add(t);
+    }
+
+    /// Counts this criterion's simulations into `other`'s tally from now
+    /// on (a criterion on part of the record, say).
+    pub fn count_into(&mut self, other: &OutputError<'_>) {
+        self.counter = other.counter.clone();
+    }
+
+    /// Counts the outcome of simulating every experiment once.
+    fn count<T>(&self, results: &[Result<T, SimulationError>], sensitivities: bool) {
+        let failed = results.iter().filter(|r| r.is_err()).count();
+        self.counter.record(results.len(), sensitivities, failed);
     }
 
     /// Number of experiments (1 for a single data file).
@@ -280,9 +282,10 @@ impl<'m> OutputError<'m> {
             .collect()
     }
 
-    /// The first experiment's simulator (the only one for a data file).
-    pub fn simulator(&self) -> &Simulator<'m> {
-        self.experiment_simulator(0)
+    /// The model whose parameters are identified (every experiment's model
+    /// has the same parameters; the first experiment's).
+    pub fn model(&self) -> &'m crate::model::Model {
+        self.parts[0].data.sim.model()
     }
 
     /// Experiment p simulates with `steps` steps per sample from now on (the
@@ -291,51 +294,19 @@ impl<'m> OutputError<'m> {
         self.parts[p].data.sim.set_steps(steps);
     }
 
-    /// Every experiment simulates with `steps` steps per sample from now on.
-    pub fn set_steps(&mut self, steps: crate::simulation::StepChoice) {
-        for p in 0..self.parts.len() {
-            self.set_experiment_steps(p, steps);
-        }
-    }
-
-    /// The first experiment's measured signals.
-    pub fn measured(&self) -> &Response {
-        self.experiment_measured(0)
-    }
-
-    /// The first experiment's first sample used.
-    pub fn first_sample(&self) -> usize {
-        self.experiment_first(0)
-    }
-
-    /// Samples used per sensor in the first experiment.
-    pub fn samples_used(&self) -> usize {
-        self.parts[0].samples_used()
-    }
-
     /// All of experiment p's parameter values at u.
     pub fn experiment_params(&self, p: usize, u: &[f64], out: &mut Vec<f64>) {
         self.parts[p].all_params(u, &self.maps, out);
     }
 
-    /// All parameter values of the first experiment at u.
-    pub fn all_params(&self, u: &[f64], out: &mut Vec<f64>) {
-        self.experiment_params(0, u, out);
-    }
-
     /// Every experiment's simulated response at u, in parallel.
     pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
-        (0..self.parts.len())
+        let results: Vec<_> = (0..self.parts.len())
             .into_par_iter()
             .map(|i| self.simulate_part(i, u))
-            .collect::<Vec<_>>()
-            .into_iter()
-            .collect()
-    }
-
-    /// The first experiment's simulated response at u.
-    pub fn simulate(&self, u: &[f64]) -> Result<Response, SimulationError> {
-        self.simulate_part(0, u)
+            .collect();
+        self.count(&results, false);
+        results.into_iter().collect()
     }
 
     /// Experiment `i`'s simulated response at u.
@@ -381,110 +352,6 @@ impl<'m> OutputError<'m> {
     }
 }
 
-impl Part<'_> {
-    fn samples_used(&self) -> usize {
-        self.data.measured.n_samples.saturating_sub(self.data.first)
-    }
-
-    fn n_residuals(&self) -> usize {
-        self.data.measured.n_sensors * self.samples_used()
-    }
-
-    fn workspace(&self, n_cols: usize) -> PartWorkspace {
-        PartWorkspace {
-            sim: Workspace::default(),
-            response: self.data.sim.response_buffer(),
-            sens: Sensitivities {
-                wrt: Vec::new(),
-                values: Vec::new(),
-            },
-            params: Vec::with_capacity(self.base.len()),
-            dx_du: vec![0.0; self.wrt.len()],
-            jac: DMatrix::zeros(if n_cols > 0 { self.n_residuals() } else { 0 }, n_cols),
-        }
-    }
-
-    fn all_params(&self, u: &[f64], maps: &[BoxMap], out: &mut Vec<f64>) {
-        out.clear();
-        out.extend_from_slice(&self.base);
-        for (&i, &c) in self.wrt.iter().zip(&self.cols) {
-            out[i] = maps[c].to_physical(u[c]);
-        }
-    }
-
-    fn fill_residuals(&self, response: &Response, r: &mut [f64]) {
-        let n = response.n_samples;
-        let first = self.data.first;
-        let used = n - first;
-        for c in 0..response.n_sensors {
-            let g = &response.sensor(c)[first..];
-            let y = &self.data.measured.sensor(c)[first..];
-            let w = self.sqrt_weights[c];
-            for ((ri, gi), yi) in r[c * used..(c + 1) * used].iter_mut().zip(g).zip(y) {
-                *ri = w * (gi - yi);
-            }
-        }
-    }
-
-    fn residuals(
-        &self,
-        ws: &mut PartWorkspace,
-        u: &[f64],
-        maps: &[BoxMap],
-        r: &mut [f64],
-    ) -> Result<(), SimulationError> {
-        self.all_params(u, maps, &mut ws.params);
-        self.data
-            .sim
-            .run(&ws.params, &mut ws.sim, &mut ws.response)?;
-        self.fill_residuals(&ws.response, r);
-        Ok(())
-    }
-
-    /// Residuals into `r` and the Jacobian into rows `row0..` of `jac` (the
-    /// whole Jacobian) or, if `jac` is `None`, into the workspace's own.
-    fn residuals_jacobian(
-        &self,
-        ws: &mut PartWorkspace,
-        u: &[f64],
-        maps: &[BoxMap],
-        r: &mut [f64],
-        jac: Option<(&mut DMatrix<f64>, usize)>,
-    ) -> Result<(), SimulationError> {
-        self.all_params(u, maps, &mut ws.params);
-        self.data.sim.run_with_sensitivities(
-            &ws.params,
-            &self.wrt,
-            &mut ws.sim,
-            &mut ws.response,
-            &mut ws.sens,
-        )?;
-        self.fill_residuals(&ws.response, r);
-        for (d, &c) in ws.dx_du.iter_mut().zip(&self.cols) {
-            *d = maps[c].derivative(u[c]);
-        }
-        let (jac, row0) = match jac {
-            Some(j) => j,
-            None => (&mut ws.jac, 0),
-        };
-        let n = ws.response.n_samples;
-        let first = self.data.first;
-        let used = n - first;
-        let p = self.wrt.len();
-        for c in 0..ws.response.n_sensors {
-            let w = self.sqrt_weights[c];
-            for k in first..n {
-                let row = row0 + c * used + (k - first);
-                let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
-                for j in 0..p {
-                    jac[(row, self.cols[j])] = w * src[j] * ws.dx_du[j];
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
 /// The first failure in experiment order, so that the error does not
 /// depend on which thread failed first.
 fn first_error(results: Vec<Result<(), SimulationError>>) -> Result<(), SimulationError> {
@@ -521,16 +388,19 @@ impl LeastSquares for OutputError<'_> {
         r: &mut [f64],
     ) -> Result<(), SimulationError> {
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
-            return part.residuals(pws, u, &self.maps, r);
+            let result = part.residuals(pws, u, &self.maps, r);
+            self.count(std::slice::from_ref(&result), false);
+            return result;
         }
         let rows = self.split_rows(r);
-        let results = self
+        let results: Vec<_> = self
             .parts
             .par_iter()
             .zip(ws.parts.par_iter_mut())
             .zip(rows)
             .map(|((part, pws), r)| part.residuals(pws, u, &self.maps, r))
             .collect();
+        self.count(&results, false);
         first_error(results)
     }
 
@@ -542,16 +412,19 @@ impl LeastSquares for OutputError<'_> {
         jac: &mut DMatrix<f64>,
     ) -> Result<(), SimulationError> {
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
-            return part.residuals_jacobian(pws, u, &self.maps, r, Some((jac, 0)));
+            let result = part.residuals_jacobian(pws, u, &self.maps, r, Some((jac, 0)));
+            self.count(std::slice::from_ref(&result), true);
+            return result;
         }
         let rows = self.split_rows(r);
-        let results = self
+        let results: Vec<_> = self
             .parts
             .par_iter()
             .zip(ws.parts.par_iter_mut())
             .zip(rows)
             .map(|((part, pws), r)| part.residuals_jacobian(pws, u, &self.maps, r, None))
             .collect();
+        self.count(&results, true);
         first_error(results)?;
         for (part, pws) in self.parts.iter().zip(&ws.parts) {
             let rows = part.n_residuals();

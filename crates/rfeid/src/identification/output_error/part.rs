@@ -1,0 +1,140 @@
+//! One experiment's part of the criterion: its residual rows and their
+//! Jacobian.
+use super::ExperimentData;
+use crate::identification::box_map::BoxMap;
+use crate::simulation::{Response, Sensitivities, SimulationError, Workspace};
+use nalgebra::DMatrix;
+
+/// One experiment of the criterion.
+#[derive(Debug, Clone)]
+pub(super) struct Part<'m> {
+    pub(super) data: ExperimentData<'m>,
+    /// Sensor weights w_ec.
+    pub(super) sensor_weights: Vec<f64>,
+    /// √(w_e w_ec) per sensor.
+    pub(super) sqrt_weights: Vec<f64>,
+    /// The identified parameters (model indices) and their columns in u.
+    pub(super) wrt: Vec<usize>,
+    pub(super) cols: Vec<usize>,
+    /// Values of all parameters; the identified ones are overwritten.
+    pub(super) base: Vec<f64>,
+    /// The part's first residual row.
+    pub(super) row0: usize,
+}
+
+/// Scratch memory of one experiment's evaluation.
+#[derive(Debug, Clone)]
+pub(super) struct PartWorkspace {
+    pub(super) sim: Workspace,
+    pub(super) response: Response,
+    pub(super) sens: Sensitivities,
+    pub(super) params: Vec<f64>,
+    /// dx/du of the part's identified parameters at the current u.
+    pub(super) dx_du: Vec<f64>,
+    /// The part's rows of the Jacobian (campaigns only).
+    pub(super) jac: DMatrix<f64>,
+}
+
+impl Part<'_> {
+    pub(super) fn samples_used(&self) -> usize {
+        self.data.measured.n_samples.saturating_sub(self.data.first)
+    }
+
+    pub(super) fn n_residuals(&self) -> usize {
+        self.data.measured.n_sensors * self.samples_used()
+    }
+
+    pub(super) fn workspace(&self, n_cols: usize) -> PartWorkspace {
+        PartWorkspace {
+            sim: Workspace::default(),
+            response: self.data.sim.response_buffer(),
+            sens: Sensitivities {
+                wrt: Vec::new(),
+                values: Vec::new(),
+            },
+            params: Vec::with_capacity(self.base.len()),
+            dx_du: vec![0.0; self.wrt.len()],
+            jac: DMatrix::zeros(if n_cols > 0 { self.n_residuals() } else { 0 }, n_cols),
+        }
+    }
+
+    pub(super) fn all_params(&self, u: &[f64], maps: &[BoxMap], out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&self.base);
+        for (&i, &c) in self.wrt.iter().zip(&self.cols) {
+            out[i] = maps[c].to_physical(u[c]);
+        }
+    }
+
+    pub(super) fn fill_residuals(&self, response: &Response, r: &mut [f64]) {
+        let n = response.n_samples;
+        let first = self.data.first;
+        let used = n - first;
+        for c in 0..response.n_sensors {
+            let g = &response.sensor(c)[first..];
+            let y = &self.data.measured.sensor(c)[first..];
+            let w = self.sqrt_weights[c];
+            for ((ri, gi), yi) in r[c * used..(c + 1) * used].iter_mut().zip(g).zip(y) {
+                *ri = w * (gi - yi);
+            }
+        }
+    }
+
+    pub(super) fn residuals(
+        &self,
+        ws: &mut PartWorkspace,
+        u: &[f64],
+        maps: &[BoxMap],
+        r: &mut [f64],
+    ) -> Result<(), SimulationError> {
+        self.all_params(u, maps, &mut ws.params);
+        self.data
+            .sim
+            .run(&ws.params, &mut ws.sim, &mut ws.response)?;
+        self.fill_residuals(&ws.response, r);
+        Ok(())
+    }
+
+    /// Residuals into `r` and the Jacobian into rows `row0..` of `jac` (the
+    /// whole Jacobian) or, if `jac` is `None`, into the workspace's own.
+    pub(super) fn residuals_jacobian(
+        &self,
+        ws: &mut PartWorkspace,
+        u: &[f64],
+        maps: &[BoxMap],
+        r: &mut [f64],
+        jac: Option<(&mut DMatrix<f64>, usize)>,
+    ) -> Result<(), SimulationError> {
+        self.all_params(u, maps, &mut ws.params);
+        self.data.sim.run_with_sensitivities(
+            &ws.params,
+            &self.wrt,
+            &mut ws.sim,
+            &mut ws.response,
+            &mut ws.sens,
+        )?;
+        self.fill_residuals(&ws.response, r);
+        for (d, &c) in ws.dx_du.iter_mut().zip(&self.cols) {
+            *d = maps[c].derivative(u[c]);
+        }
+        let (jac, row0) = match jac {
+            Some(j) => j,
+            None => (&mut ws.jac, 0),
+        };
+        let n = ws.response.n_samples;
+        let first = self.data.first;
+        let used = n - first;
+        let p = self.wrt.len();
+        for c in 0..ws.response.n_sensors {
+            let w = self.sqrt_weights[c];
+            for k in first..n {
+                let row = row0 + c * used + (k - first);
+                let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
+                for j in 0..p {
+                    jac[(row, self.cols[j])] = w * src[j] * ws.dx_du[j];
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,97 @@
+//! Stage 5, the accuracy at the estimate: the steps per sample were chosen
+//! before the search and held fixed (so that J stays smooth); they are
+//! checked at the estimate, and if it needs finer ones the search goes on
+//! with those. Modes above the Nyquist frequency are named.
+use super::error::IdentifyError;
+use super::searcher::Searcher;
+use crate::identification::output_error::OutputError;
+use crate::identification::search::SearchOutcome;
+use crate::identification::tally::Tally;
+use crate::identification::warning::Warning;
+use crate::simulation::steps::{choose_steps, estimate_error};
+use crate::simulation::StepChoice;
+
+/// The steps checked at the estimate; the estimate, refined if finer steps
+/// were needed, and the warnings.
+pub(super) fn check(
+    problem: &mut OutputError<'_>,
+    searcher: &Searcher<'_>,
+    mut best: SearchOutcome,
+) -> Result<(SearchOutcome, Vec<Warning>), IdentifyError> {
+    let mut warnings = Vec::new();
+    for _ in 0..3 {
+        let mut finer = false;
+        for p in 0..problem.n_experiments() {
+            match check_steps(problem, p, &best.u) {
+                Ok(Checked::Finer) => finer = true,
+                Ok(Checked::Held(w)) => warnings.extend(w),
+                Err(e) => warnings.push(Warning::StepsUnchecked(e)),
+            }
+        }
+        if !finer {
+            break;
+        }
+        best = searcher.search(problem, &best.u)?;
+    }
+    warnings.dedup();
+    for p in 0..problem.n_experiments() {
+        let mut x = Vec::new();
+        problem.experiment_params(p, &best.u, &mut x);
+        warnings.extend(
+            crate::simulation::aliasing::above_nyquist(problem.experiment_simulator(p), &x)
+                .into_iter()
+                .map(Warning::AboveNyquist),
+        );
+    }
+    warnings.dedup();
+    Ok((best, warnings))
+}
+
+/// What the check of one experiment's steps found.
+enum Checked {
+    /// Finer steps are needed: the search must go on.
+    Finer,
+    /// The steps stay; a warning if their error exceeds the tolerance.
+    Held(Option<Warning>),
+}
+
+/// Checks experiment p's steps per sample at u and holds the checked ones
+/// (their runs recorded in the problem's tally).
+fn check_steps(
+    problem: &mut OutputError<'_>,
+    p: usize,
+    u: &[f64],
+) -> Result<Checked, crate::simulation::SimulationError> {
+    let mut x = Vec::new();
+    problem.experiment_params(p, u, &mut x);
+    let model = problem.experiment_simulator(p).model();
+    let held = problem.experiment_simulator(p).steps();
+    let c = match held.automatic {
+        true => choose_steps(model, &x, held.tolerance, held.substeps),
+        false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
+            estimated_error: Some(e),
+            runs: 2,
+            ..held
+        }),
+    }?;
+    problem.record(Tally::plain(c.runs));
+    problem.set_experiment_steps(
+        p,
+        StepChoice {
+            runs: held.runs + c.runs,
+            ..c
+        },
+    );
+    if c.substeps != held.substeps {
+        return Ok(Checked::Finer);
+    }
+    Ok(Checked::Held(
+        c.estimated_error
+            .filter(|e| *e > c.tolerance)
+            .map(|error| Warning::StepsTooCoarse {
+                substeps: c.substeps,
+                error,
+                tolerance: c.tolerance,
+            }),
+    ))
+}

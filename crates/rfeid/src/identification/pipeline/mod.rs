@@ -1,0 +1,161 @@
+//! The whole identification (paper §3) as a short sequence of stages, each
+//! in a file of its own, with values, not strings, between them:
+//!
+//! 1. [`plan`]: the problem checked, the LP_τ plan (eq. 18–19) and J at its
+//!    points (possibly in shards: [`evaluate_points`]);
+//! 2. `starts`: local searches ([`crate::identification::search`]) from the
+//!    best points, on a short window of the record first;
+//! 3. `weights`: sensors weighted by their estimated noise (eq. 14);
+//! 4. `restarts`: more starts when every end fails the fit checks;
+//! 5. `accuracy`: the steps per sample checked at the estimate;
+//! 6. `bounds`: Cramér–Rao bounds (eq. 26–29);
+//! 7. `judge`: the verdict;
+//! 8. `assemble`: the [`IdentificationResult`].
+//!
+//! Every simulation is counted where it runs, in the criterion's
+//! [`crate::identification::tally::Counter`].
+mod accuracy;
+mod assemble;
+mod bounds;
+mod error;
+mod judge;
+mod plan;
+mod restarts;
+mod searcher;
+mod settings;
+mod starts;
+mod weights;
+
+pub use self::error::{IdentifyError, SearchError};
+pub use self::plan::{evaluate_points, plan, PointOutcome};
+pub use self::settings::{Method, Progress, Settings, Silent, Start, Weighting, DEFAULT_RESTARTS};
+pub use crate::identification::result::StartFailure;
+
+use self::assemble::{assemble, Found};
+use self::plan::PlanRun;
+use self::searcher::Searcher;
+use crate::identification::output_error::OutputError;
+use crate::identification::plan::Plan;
+use crate::identification::problem::LeastSquares;
+use crate::identification::result::{IdentificationResult, Timings};
+use crate::identification::search::SearchOutcome;
+use crate::identification::verdict::StartEnd;
+use std::time::Instant;
+
+/// Runs the identification of `problem`'s parameters: [`plan`], then
+/// [`evaluate_points`] on every point, then [`finish`].
+pub fn identify(
+    problem: OutputError<'_>,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Result<IdentificationResult, IdentifyError> {
+    let t_start = Instant::now();
+    let one_point = Settings {
+        plan_points: 1,
+        starts: 1,
+        ..settings.clone()
+    };
+    let plan = plan(
+        &problem,
+        match settings.start {
+            Start::Plan => settings,
+            Start::Values => &one_point,
+        },
+    )?;
+    progress.plan_started(plan.len());
+    let all: Vec<usize> = (0..plan.len()).collect();
+    let outcomes = evaluate_points(&problem, &plan, &all, progress)?;
+    finish(
+        problem,
+        settings,
+        &plan,
+        outcomes,
+        t_start.elapsed().as_secs_f64(),
+        progress,
+    )
+}
+
+/// Continues an identification from J at every plan point (`outcomes[k]`
+/// for `plan.point(k)`, from [`evaluate_points`], possibly in pieces):
+/// local searches from the best points, reweighting, restarts, the
+/// accuracy check, Cramér–Rao bounds and the verdict. `plan_seconds` is
+/// the wall time the plan took.
+pub fn finish(
+    mut problem: OutputError<'_>,
+    settings: &Settings,
+    plan: &Plan,
+    outcomes: Vec<PointOutcome>,
+    plan_seconds: f64,
+    progress: &dyn Progress,
+) -> Result<IdentificationResult, IdentifyError> {
+    let t_finish = Instant::now();
+    let plan = PlanRun::new(&problem, settings, plan, outcomes)?;
+    let before = problem.tally();
+    let searcher = Searcher::new(settings, problem.n_params(), progress)?;
+    let t_local = Instant::now();
+    let mut ends = starts::run(&problem, &searcher, &plan)?;
+    weights::before_restarts(&mut problem, &searcher, &mut ends)?;
+    let judged = restarts::run(&problem, &searcher, &plan, &mut ends);
+    let (best, kept) = best_end(&problem, ends.searches, &judged)
+        .ok_or_else(|| IdentifyError::AllStartsFailed(ends.failures.clone()))?;
+    let best = match settings.weighting {
+        Weighting::EstimatedNoise => weights::estimate(&mut problem, &searcher, best)?,
+        Weighting::Equal => best,
+    };
+    let (best, step_warnings) = accuracy::check(&mut problem, &searcher, best)?;
+    let t_local = t_local.elapsed().as_secs_f64();
+    let t_bounds = Instant::now();
+    let bounds = bounds::at(&problem, &best.u, &settings.uncertainty);
+    let t_bounds = t_bounds.elapsed().as_secs_f64();
+    let fitted = problem.simulate_all(&best.u);
+    let verdict = judge::verdict(&problem, &best, &kept, &bounds, &fitted, settings);
+    let warnings = ends
+        .restart_warning
+        .into_iter()
+        .chain(step_warnings)
+        .chain(ends.warnings)
+        .collect();
+    let tally = plan.tally + (problem.tally() - before);
+    let found = Found {
+        plan: &plan,
+        best,
+        bounds,
+        fitted,
+        verdict,
+        warnings,
+        failed_starts: ends.failures,
+        tally,
+        timings: Timings {
+            plan: plan_seconds,
+            local_search: t_local,
+            uncertainty: t_bounds,
+            total: plan_seconds + t_finish.elapsed().as_secs_f64(),
+        },
+    };
+    Ok(assemble(&problem, settings, found))
+}
+
+/// The search with the lowest J among those the restarts kept, and the
+/// kept ends (for the verdict's minima); `None` if none is left.
+fn best_end(
+    problem: &OutputError<'_>,
+    searches: Vec<SearchOutcome>,
+    judged: &restarts::Judged,
+) -> Option<(SearchOutcome, Vec<StartEnd>)> {
+    let mut kept = Vec::new();
+    let mut best: Option<SearchOutcome> = None;
+    for (k, s) in searches.into_iter().enumerate() {
+        if !judged.keeps(k) {
+            // A side minimum, left behind (and described in a warning).
+            continue;
+        }
+        kept.push(StartEnd {
+            cost: s.cost,
+            parameters: problem.to_physical(&s.u),
+        });
+        if best.as_ref().is_none_or(|b| s.cost < b.cost) {
+            best = Some(s);
+        }
+    }
+    best.map(|b| (b, kept))
+}

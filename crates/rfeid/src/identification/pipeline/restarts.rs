@@ -1,0 +1,119 @@
+//! Stage 4, the restarts ([`super::Settings::restarts`]): if no search
+//! ends where the fit passes the verdict's per-sensor checks, further
+//! searches start from the best remaining plan points (by J) that lie at
+//! least [`DISTINCT`] from every start and end so far, one at a time, until
+//! one passes or the restarts run out. Deterministic: the candidates follow
+//! the plan's ranking.
+use super::judge::fit_passes;
+use super::plan::PlanRun;
+use super::searcher::Searcher;
+use super::settings::Start;
+use super::starts::Ends;
+use crate::identification::output_error::OutputError;
+use crate::identification::plan_eval::rank;
+use crate::identification::result::StartFailure;
+use crate::identification::warning::Warning;
+
+/// Plan points closer than this (RMS over the normalised coordinates) to a
+/// start or an end already searched are not restarted from: they would most
+/// likely end in the same minimum.
+const DISTINCT: f64 = 0.1;
+
+/// Which ends the restarts judged side minima.
+#[derive(Debug, Default)]
+pub(super) struct Judged {
+    /// When a restart found an end that passes the fit checks: whether
+    /// each search (in order) passes, so that the side minima are left out.
+    pub passed: Option<Vec<bool>>,
+}
+
+impl Judged {
+    /// Whether search `k` is kept (not a side minimum left behind).
+    pub fn keeps(&self, k: usize) -> bool {
+        self.passed.as_ref().is_none_or(|p| p[k])
+    }
+}
+
+/// Runs the restarts, appending their searches, failures and warning to
+/// `ends`.
+pub(super) fn run(
+    problem: &OutputError<'_>,
+    searcher: &Searcher<'_>,
+    plan: &PlanRun<'_>,
+    ends: &mut Ends,
+) -> Judged {
+    let s = searcher.settings();
+    if s.start == Start::Values || s.restarts == 0 {
+        return Judged::default();
+    }
+    let passes = |u: &[f64]| fit_passes(problem, &s.verdict, u);
+    let mut passed: Vec<bool> = ends.searches.iter().map(|e| passes(&e.u)).collect();
+    if passed.iter().any(|&p| p) || ends.searches.is_empty() {
+        return Judged::default();
+    }
+    let first_cost = lowest(ends.searches.iter().map(|e| e.cost));
+    let mut visited: Vec<Vec<f64>> = ends
+        .used
+        .iter()
+        .map(|&i| plan.plan.point(i).to_vec())
+        .collect();
+    visited.extend(ends.searches.iter().map(|e| e.u.clone()));
+    let mut tried = 0;
+    for idx in rank(&plan.outcomes) {
+        let Ok(cost) = plan.outcomes[idx] else { break };
+        if tried == s.restarts {
+            break;
+        }
+        let p = plan.plan.point(idx);
+        if ends.used.contains(&idx) || visited.iter().any(|v| distance(v, p) < DISTINCT) {
+            continue;
+        }
+        tried += 1;
+        visited.push(p.to_vec());
+        searcher.progress().search_started(
+            ends.used.len() + tried - 1,
+            ends.used.len() + s.restarts,
+            cost,
+        );
+        match searcher.start_search(problem, p, &mut ends.warnings) {
+            Ok(e) => {
+                visited.push(e.u.clone());
+                let ok = passes(&e.u);
+                ends.searches.push(e);
+                passed.push(ok);
+                if ok {
+                    break;
+                }
+            }
+            Err(e) => ends.failures.push(StartFailure {
+                plan_index: idx,
+                reason: e.to_string(),
+            }),
+        }
+    }
+    let found = passed.iter().any(|&p| p);
+    let best = lowest(
+        ends.searches
+            .iter()
+            .zip(&passed)
+            .filter(|(_, p)| **p)
+            .map(|(e, _)| e.cost),
+    );
+    ends.restart_warning = Some(Warning::SideMinimum {
+        first_cost,
+        restarts: tried,
+        found: found.then_some(best),
+    });
+    Judged {
+        passed: found.then_some(passed),
+    }
+}
+
+fn lowest(costs: impl Iterator<Item = f64>) -> f64 {
+    costs.fold(f64::INFINITY, f64::min)
+}
+
+/// RMS distance of two normalised points.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    (a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>() / a.len() as f64).sqrt()
+}

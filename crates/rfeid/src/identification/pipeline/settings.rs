@@ -1,0 +1,85 @@
+//! What an identification is asked to do ([`Settings`]) and what a caller
+//! may watch while it runs ([`Progress`]).
+use crate::identification::bfgs::BfgsSettings;
+use crate::identification::lm::LmSettings;
+pub use crate::identification::search::Method;
+use crate::identification::uncertainty::UncertaintySettings;
+use crate::identification::verdict::VerdictSettings;
+
+/// How the sensors are weighted in J (eq. 13).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Weighting {
+    /// w_c = 1, the paper's choice (eq. 14).
+    #[default]
+    Equal,
+    /// w_c = 1/σ_c², with σ_c² estimated from each sensor's residuals after a
+    /// fit; the fit is repeated with the new weights (up to 5 times).
+    EstimatedNoise,
+}
+
+/// Where the local search starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Start {
+    /// From the best [`Settings::starts`] points of the LP_τ plan (eq. 18–19).
+    #[default]
+    Plan,
+    /// Once, from the identified parameters' `value`s in the model file
+    /// (which lie in their boxes). [`super::identify`] then evaluates a plan
+    /// of one point only, for the checks of the problem; the global search
+    /// is skipped, so the estimate is the minimum nearest the values.
+    Values,
+}
+
+/// Settings of an identification.
+#[derive(Debug, Clone, Default)]
+pub struct Settings {
+    /// N_p, plan points (≥ 1).
+    pub plan_points: usize,
+    /// Local searches from the best few plan points (≥ 1).
+    pub starts: usize,
+    /// Local search method.
+    pub method: Method,
+    /// Sensor weighting.
+    pub weighting: Weighting,
+    /// Levenberg–Marquardt settings.
+    pub lm: LmSettings,
+    /// BFGS settings.
+    pub bfgs: BfgsSettings,
+    /// Uncertainty settings.
+    pub uncertainty: UncertaintySettings,
+    /// Thresholds of the verdict.
+    pub verdict: VerdictSettings,
+    /// If set, each start first fits this fraction (0, 1) of the record
+    /// (from its first used sample), then the whole record from there: the
+    /// short record's criterion is less rugged, so a start far from the
+    /// truth is less likely to end in a side minimum.
+    pub window: Option<f64>,
+    /// Where the local search starts.
+    pub start: Start,
+    /// Automatic restarts: when no local search from the plan ends where
+    /// the fit passes the verdict's per-sensor checks (fit, whiteness,
+    /// noise level), up to this many further searches start from the
+    /// next-best plan points that are distinct from every start and end so
+    /// far, until one passes (see the `restarts` stage). 0: none.
+    /// `rfeid identify` uses [`DEFAULT_RESTARTS`].
+    pub restarts: usize,
+}
+
+/// The automatic restarts of `rfeid identify` ([`Settings::restarts`]).
+pub const DEFAULT_RESTARTS: usize = 8;
+
+/// What a caller may watch (progress bars, logs). Every method has a no-op default.
+pub trait Progress: Sync {
+    /// The plan of `points` points starts.
+    fn plan_started(&self, _points: usize) {}
+    /// One plan point is done.
+    fn plan_point(&self) {}
+    /// Local search `k` of `of` starts at criterion `cost`.
+    fn search_started(&self, _k: usize, _of: usize, _cost: f64) {}
+    /// An iteration of the local search ended at criterion `cost`.
+    fn iteration(&self, _iteration: usize, _cost: f64) {}
+}
+
+/// No progress reporting.
+pub struct Silent;
+impl Progress for Silent {}

@@ -1,0 +1,136 @@
+//! One interface to the local searches: [`LocalSearch`], which
+//! Levenberg–Marquardt ([`super::lm`]) and the paper's BFGS ([`super::bfgs`],
+//! eq. 20–25) implement, and the one [`SearchOutcome`] both return.
+//!
+//! Like the solvers, this knows no model: it works on any
+//! [`LeastSquares`] problem in normalised coordinates (eq. 17).
+use super::bfgs::Bfgs;
+use super::lm::LevenbergMarquardt;
+use super::problem::LeastSquares;
+use super::tally::Tally;
+use super::termination::{SolveError, StopReason};
+use serde::{Deserialize, Serialize};
+
+/// The local search method, as RESULT.json names it (`lm`, `bfgs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Levenberg–Marquardt with the exact Jacobian.
+    #[default]
+    Lm,
+    /// The paper's BFGS with finite-difference gradients (eq. 20–25).
+    Bfgs,
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Method::Lm => "lm",
+            Method::Bfgs => "bfgs",
+        })
+    }
+}
+
+/// One iterate of a local search: its number (0: the start), J and u.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// Iteration number.
+    pub iteration: usize,
+    /// J (eq. 16) there.
+    pub cost: f64,
+    /// The normalised parameters.
+    pub u: Vec<f64>,
+}
+
+/// A finished local search, whichever method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchOutcome {
+    /// The estimate, normalised.
+    pub u: Vec<f64>,
+    /// J there.
+    pub cost: f64,
+    /// Why the search stopped.
+    pub stop: StopReason,
+    /// Iterations taken.
+    pub iterations: usize,
+    /// The evaluations the search made, as it counted them (a residual
+    /// evaluation is a plain simulation, a Jacobian one with
+    /// sensitivities).
+    pub tally: Tally,
+    /// Every iterate, the start first.
+    pub history: Vec<Step>,
+}
+
+/// A local search inside the box `[0, 1]^n`.
+pub trait LocalSearch {
+    /// Minimises J from `u0`, calling `observer(iteration, cost)` at the
+    /// start and after every iteration.
+    fn search<P: LeastSquares>(
+        &self,
+        problem: &P,
+        u0: &[f64],
+        observer: &mut dyn FnMut(usize, f64),
+    ) -> Result<SearchOutcome, SolveError<P::Error>>;
+}
+
+impl LocalSearch for LevenbergMarquardt {
+    fn search<P: LeastSquares>(
+        &self,
+        problem: &P,
+        u0: &[f64],
+        observer: &mut dyn FnMut(usize, f64),
+    ) -> Result<SearchOutcome, SolveError<P::Error>> {
+        let r = self.minimize_observed(problem, u0, observer)?;
+        Ok(SearchOutcome {
+            u: r.u,
+            cost: r.cost,
+            stop: r.stop_reason,
+            iterations: r.iterations,
+            tally: Tally {
+                simulations: r.residual_evaluations,
+                with_sensitivities: r.jacobian_evaluations,
+                failed: r.failed_evaluations,
+            },
+            history: r
+                .history
+                .into_iter()
+                .map(|h| Step {
+                    iteration: h.iteration,
+                    cost: h.cost,
+                    u: h.u,
+                })
+                .collect(),
+        })
+    }
+}
+
+impl LocalSearch for Bfgs {
+    fn search<P: LeastSquares>(
+        &self,
+        problem: &P,
+        u0: &[f64],
+        observer: &mut dyn FnMut(usize, f64),
+    ) -> Result<SearchOutcome, SolveError<P::Error>> {
+        let r = self.minimize_observed(problem, u0, observer)?;
+        Ok(SearchOutcome {
+            u: r.u,
+            cost: r.cost,
+            stop: r.stop_reason,
+            iterations: r.iterations,
+            tally: Tally {
+                simulations: r.cost_evaluations,
+                with_sensitivities: 0,
+                failed: r.failed_evaluations,
+            },
+            history: r
+                .history
+                .into_iter()
+                .map(|h| Step {
+                    iteration: h.iteration,
+                    cost: h.cost,
+                    u: h.u,
+                })
+                .collect(),
+        })
+    }
+}

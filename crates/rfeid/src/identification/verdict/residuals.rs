@@ -1,0 +1,140 @@
+//! The per-sensor checks of the residuals: fit, whiteness (Ljung–Box) and
+//! noise level.
+use super::reason::{Reason, SensorCheck};
+use super::settings::VerdictSettings;
+use super::FitSignal;
+use crate::identification::chi_square::chi_square_sf;
+
+/// Every sensor's checks, each failed one pushed to `reasons`.
+pub(super) fn check_sensors(
+    signals: &[FitSignal<'_>],
+    s: &VerdictSettings,
+    reasons: &mut Vec<Reason>,
+) -> Vec<SensorCheck> {
+    let mut checks = Vec::with_capacity(signals.len());
+    let mut residual = Vec::new();
+    for sig in signals {
+        let (name, y, g) = (&sig.sensor, sig.measured, sig.fitted);
+        checks.push(check_sensor(name, y, g, s, &mut residual, reasons));
+    }
+    checks
+}
+
+/// Whether the fit fails any per-sensor check of the verdict (poor fit,
+/// residuals not white, residual variance beyond the noise level): a sign
+/// of a side minimum, or of model error.
+pub(crate) fn fit_fails(signals: &[FitSignal<'_>], s: &VerdictSettings) -> bool {
+    let (mut residual, mut reasons) = (Vec::new(), Vec::new());
+    signals.iter().any(|sig| {
+        check_sensor("", sig.measured, sig.fitted, s, &mut residual, &mut reasons);
+        !reasons.is_empty()
+    })
+}
+
+/// The fit, whiteness and noise-level checks of one sensor's measured `y`
+/// and fitted `g`; `residual` is scratch.
+fn check_sensor(
+    name: &str,
+    y: &[f64],
+    g: &[f64],
+    s: &VerdictSettings,
+    residual: &mut Vec<f64>,
+    reasons: &mut Vec<Reason>,
+) -> SensorCheck {
+    let name = name.to_string();
+    residual.clear();
+    residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
+    let n = y.len().max(1) as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let spread = y
+        .iter()
+        .map(|v| (v - mean) * (v - mean))
+        .sum::<f64>()
+        .sqrt();
+    let misfit = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let fit_percent = (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread));
+    if fit_percent.is_none_or(|f| f < s.min_fit_percent) {
+        reasons.push(Reason::PoorFit {
+            sensor: name.clone(),
+            fit_percent,
+            threshold: s.min_fit_percent,
+        });
+    }
+    let mut check = SensorCheck {
+        sensor: name.clone(),
+        fit_percent,
+        ljung_box: None,
+        p_value: None,
+        noise_ratio: None,
+    };
+    let exact = misfit <= s.exact_fit * spread;
+    if !exact {
+        if let Some(q) = ljung_box(residual, s.lags) {
+            let p = chi_square_sf(q, s.lags);
+            (check.ljung_box, check.p_value) = (Some(q), Some(p));
+            if p < s.whiteness_level {
+                reasons.push(Reason::NotWhite {
+                    sensor: name.clone(),
+                    statistic: q,
+                    p_value: p,
+                    lags: s.lags,
+                    level: s.whiteness_level,
+                });
+            }
+        }
+        if let Some(ratio) = noise_ratio(residual) {
+            check.noise_ratio = Some(ratio);
+            if ratio > s.max_noise_ratio {
+                reasons.push(Reason::NoiseMismatch {
+                    sensor: name,
+                    ratio,
+                    threshold: s.max_noise_ratio,
+                });
+            }
+        }
+    }
+    check
+}
+
+/// The Ljung–Box statistic `Q = n (n + 2) Σ_{k=1}^{h} ρ_k² / (n − k)` of
+/// `e` (its mean removed), or `None` if the record is shorter than `2h + 2`
+/// samples or constant.
+pub fn ljung_box(e: &[f64], lags: usize) -> Option<f64> {
+    let n = e.len();
+    if n < 2 * lags + 2 {
+        return None;
+    }
+    let mean = e.iter().sum::<f64>() / n as f64;
+    let c0: f64 = e.iter().map(|v| (v - mean) * (v - mean)).sum();
+    if c0 <= 0.0 {
+        return None;
+    }
+    let mut q = 0.0;
+    for k in 1..=lags {
+        let ck: f64 = e[k..]
+            .iter()
+            .zip(e)
+            .map(|(a, b)| (a - mean) * (b - mean))
+            .sum();
+        let rho = ck / c0;
+        q += rho * rho / (n - k) as f64;
+    }
+    Some(n as f64 * (n as f64 + 2.0) * q)
+}
+
+/// `(Σ e² / n) / (Σ (Δe)² / (2 (n − 1)))`: about 1 for white residuals, large
+/// when they hold a smooth part; `None` for fewer than 3 samples or
+/// constant residuals.
+pub fn noise_ratio(e: &[f64]) -> Option<f64> {
+    let n = e.len();
+    if n < 3 {
+        return None;
+    }
+    let variance = e.iter().map(|v| v * v).sum::<f64>() / n as f64;
+    let diff = e
+        .windows(2)
+        .map(|w| (w[1] - w[0]) * (w[1] - w[0]))
+        .sum::<f64>()
+        / (2.0 * (n - 1) as f64);
+    (diff > 0.0).then(|| variance / diff)
+}
