@@ -265,6 +265,7 @@ impl Bfgs {
         self.minimize_observed(problem, u0, &mut |_, _| {})
     }
 
+    // long-fn: numerical kernel (the BFGS iteration of eq. 20–25, one loop)
     /// Minimises J from `u0`, calling `observer(iteration, cost)` at the start
     /// (iteration 0) and after every iteration.
     pub fn minimize_observed<P: LeastSquares>(

@@ -88,6 +88,7 @@ impl<P: LeastSquares> LineSearch<'_, P> {
         }
     }
 
+    // long-fn: numerical kernel (the bracketing and zoom of the line search, eq. 20)
     /// Runs the search from φ(0) = `f0` with slope `slope` = ∇Jᵀp < 0, first
     /// trial `alpha0`, and `alpha_max` the step beyond which the projected
     /// point no longer moves.

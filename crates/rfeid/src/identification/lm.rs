@@ -266,6 +266,7 @@ impl LevenbergMarquardt {
         self.minimize_observed(problem, u0, &mut |_, _| {})
     }
 
+    // long-fn: numerical kernel (the Levenberg–Marquardt iteration, one loop)
     /// Minimises J from `u0`, calling `observer(iteration, cost)` at the start
     /// (iteration 0) and after every iteration.
     pub fn minimize_observed<P: LeastSquares>(
@@ -379,6 +380,7 @@ impl LevenbergMarquardt {
         })
     }
 
+    // long-fn: numerical kernel (the damping loop of one Levenberg–Marquardt step)
     /// Tries damping values until a trial point decreases J or the run
     /// stops; on acceptance `cur` holds the new point with its Jacobian.
     #[allow(clippy::too_many_arguments)]

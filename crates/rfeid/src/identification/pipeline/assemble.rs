@@ -11,6 +11,7 @@ use crate::identification::result::{
 };
 use crate::identification::search::SearchOutcome;
 use crate::identification::tally::Tally;
+use crate::identification::uncertainty::CramerRao;
 use crate::identification::verdict::{identifiability_reason, Verdict};
 use crate::identification::warning::Warning;
 use crate::model::Role;
@@ -48,26 +49,7 @@ pub(super) fn assemble(
     let cramer_rao = f.bounds.cramer_rao.as_ref().ok();
     let x = problem.to_physical(&f.best.u);
     let names: Vec<String> = problem.columns().iter().map(|c| c.name.clone()).collect();
-    let parameters = problem
-        .columns()
-        .iter()
-        .enumerate()
-        .map(|(j, col)| {
-            let p = &model.parameters[col.parameter];
-            let (min, max) = p.bounds.expect("identified");
-            ParameterEstimate {
-                name: col.name.clone(),
-                unit: p.unit.symbol.clone(),
-                unit_scale: p.unit.scale,
-                estimate: x[j],
-                std_error: cramer_rao.map(|c| c.std_errors[j]),
-                min,
-                max,
-                scale: p.scale,
-                nominal: p.value,
-            }
-        })
-        .collect();
+    let parameters = estimates(problem, &x, cramer_rao);
     let mut warnings: Vec<Warning> = cramer_rao
         .map(|c| {
             c.warnings
@@ -130,6 +112,35 @@ pub(super) fn assemble(
         verdict: Some(f.verdict),
         simulation: Some(problem.experiment_simulator(0).steps()),
     }
+}
+
+/// Every identified parameter's estimate, with its standard error.
+fn estimates(
+    problem: &OutputError<'_>,
+    x: &[f64],
+    cramer_rao: Option<&CramerRao>,
+) -> Vec<ParameterEstimate> {
+    let model = problem.model();
+    problem
+        .columns()
+        .iter()
+        .enumerate()
+        .map(|(j, col)| {
+            let p = &model.parameters[col.parameter];
+            let (min, max) = p.bounds.expect("identified");
+            ParameterEstimate {
+                name: col.name.clone(),
+                unit: p.unit.symbol.clone(),
+                unit_scale: p.unit.scale,
+                estimate: x[j],
+                std_error: cramer_rao.map(|c| c.std_errors[j]),
+                min,
+                max,
+                scale: p.scale,
+                nominal: p.value,
+            }
+        })
+        .collect()
 }
 
 /// The experiments of a campaign as RESULT.json lists them, each with its

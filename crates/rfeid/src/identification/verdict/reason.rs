@@ -150,6 +150,45 @@ pub enum Reason {
     },
 }
 
+/// [`Reason::AtBound`] in words.
+fn at_bound(f: &mut fmt::Formatter<'_>, parameter: &str, side: Side, distance: f64) -> fmt::Result {
+    let side = match side {
+        Side::Lower => "lower",
+        Side::Upper => "upper",
+    };
+    if distance == 0.0 {
+        write!(
+            f,
+            "{parameter} is on its {side} bound: the minimum may lie outside the box"
+        )
+    } else {
+        write!(
+            f,
+            "{parameter} is {:.3} % of its box's width from its {side} bound: the minimum may lie outside the box",
+            100.0 * distance
+        )
+    }
+}
+
+/// [`Reason::DistinctMinima`] in words.
+fn distinct_minima(f: &mut fmt::Formatter<'_>, minima: &[Minimum], threshold: f64) -> fmt::Result {
+    let starts: usize = minima.iter().map(|m| m.starts).sum();
+    let list: Vec<String> = minima
+        .iter()
+        .map(|m| {
+            let s = if m.starts == 1 { "start" } else { "starts" };
+            format!("J = {} ({} {s})", fmt_sig(m.cost), m.starts)
+        })
+        .collect();
+    write!(
+        f,
+        "the {starts} starts ended in {} different minima: {}; J differences above {} are more than the noise explains",
+        minima.len(),
+        list.join(", "),
+        fmt_sig(threshold)
+    )
+}
+
 /// J and thresholds in messages: four significant digits.
 fn fmt_sig(v: f64) -> String {
     format!("{v:.3e}")
@@ -165,38 +204,13 @@ impl fmt::Display for Reason {
             Reason::NotConverged { termination } => {
                 write!(f, "the local search did not converge ({termination})")
             }
-            Reason::AtBound { parameter, side, distance, .. } => {
-                let side = match side {
-                    Side::Lower => "lower",
-                    Side::Upper => "upper",
-                };
-                if *distance == 0.0 {
-                    write!(f, "{parameter} is on its {side} bound: the minimum may lie outside the box")
-                } else {
-                    write!(
-                        f,
-                        "{parameter} is {:.3} % of its box's width from its {side} bound: the minimum may lie outside the box",
-                        100.0 * distance
-                    )
-                }
-            }
-            Reason::DistinctMinima { minima, threshold } => {
-                let starts: usize = minima.iter().map(|m| m.starts).sum();
-                let list: Vec<String> = minima
-                    .iter()
-                    .map(|m| {
-                        let s = if m.starts == 1 { "start" } else { "starts" };
-                        format!("J = {} ({} {s})", fmt_sig(m.cost), m.starts)
-                    })
-                    .collect();
-                write!(
-                    f,
-                    "the {starts} starts ended in {} different minima: {}; J differences above {} are more than the noise explains",
-                    minima.len(),
-                    list.join(", "),
-                    fmt_sig(*threshold)
-                )
-            }
+            Reason::AtBound {
+                parameter,
+                side,
+                distance,
+                ..
+            } => at_bound(f, parameter, *side, *distance),
+            Reason::DistinctMinima { minima, threshold } => distinct_minima(f, minima, *threshold),
             Reason::PoorFit { sensor, fit_percent: Some(fit), threshold } => write!(
                 f,
                 "{sensor} is poorly fitted: {fit:.1} % (below {threshold} %)"
