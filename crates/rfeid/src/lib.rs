@@ -9,3 +9,4 @@ pub mod measurement;
 pub mod model;
 pub mod report;
 pub mod simulation;
+pub mod units;

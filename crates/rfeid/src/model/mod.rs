@@ -4,11 +4,15 @@
 //! ([`crate::io::model_file`]) or in code, and everything downstream trusts
 //! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
 //! a fixed number or a reference to a [`Parameter`].
+mod data_source;
 mod experiment;
 pub mod geometry;
+mod record_ref;
 mod signal;
 
+pub use data_source::{default_sources, DataSource};
 pub use experiment::{Experiment, Role};
+pub use record_ref::RecordRef;
 pub use signal::{Shape, Signal, Term};
 
 use nalgebra::{Matrix3, Vector3};
@@ -180,7 +184,7 @@ pub struct Parameter {
     /// How to show values to a person: a unit symbol and its SI scale.
     pub unit: DisplayUnit,
     /// Physical dimension, from the places the parameter is used.
-    pub dimension: crate::io::units::Dimension,
+    pub dimension: crate::units::Dimension,
     /// Identified once per fitted experiment (SPEC §5), reported as
     /// `name[experiment]`.
     pub per_experiment: bool,
@@ -299,7 +303,7 @@ pub struct Sensor {
     pub kind: SensorKind,
     /// Where its measured signal is in a data file (column, variable or
     /// record); by default the signal named like the sensor.
-    pub data: crate::io::data_file::DataSource,
+    pub data: DataSource,
     /// Calibration gain (SPEC §5): the reading is `gain · motion + offset`.
     pub gain: Value,
     /// Calibration offset, in the reading's unit.
