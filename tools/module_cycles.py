@@ -6,7 +6,8 @@ Usage: python3 tools/module_cycles.py DIR [DIR ...]
 DIR is a Rust module directory (e.g. crates/rfeid/src/simulation). Its
 nodes are its files `X.rs` and its subdirectories `X/` (all files below
 count as X), plus `mod.rs` for the items that mod.rs defines itself.
-Module declarations marked `#[cfg(test)]` in mod.rs are left out.
+Modules declared under `#[cfg(test)]` (in mod.rs, or in a subdirectory's
+mod.rs) are left out.
 
 A file depends on node B if its code (comments, literals and every
 `#[cfg(test)]` item left out) names a path into B: `super::B::..`,
@@ -117,14 +118,8 @@ class Directory:
                 if os.path.exists(os.path.join(directory, root)):
                     self.mod_file = os.path.join(directory, root)
         self.code = {}
-        self.test_only = set()
-        mod_code = ""
-        if os.path.exists(self.mod_file):
-            mod_code = self.read(self.mod_file)
-            unblanked = strip(self.raw(self.mod_file))
-            for a, b in cfg_test_spans(unblanked):
-                for m in MOD_DECL.finditer(unblanked[a:b]):
-                    self.test_only.add(m.group(2))
+        mod_code = self.read(self.mod_file) if os.path.exists(self.mod_file) else ""
+        self.test_only = self.test_modules(self.mod_file)
         self.nodes = {}  # name -> list of (file, module path)
         for entry in sorted(os.listdir(directory)):
             path = os.path.join(directory, entry)
@@ -134,9 +129,11 @@ class Directory:
                     self.nodes[entry] = [(path, self.base + [name])]
             elif os.path.isdir(path) and entry not in self.test_only:
                 files = []
-                for root, _, names in os.walk(path):
+                for root, dirs, names in os.walk(path):
+                    skip = self.test_modules(os.path.join(root, "mod.rs"))
+                    dirs[:] = sorted(x for x in dirs if x not in skip)
                     for f in sorted(names):
-                        if f.endswith(".rs"):
+                        if f.endswith(".rs") and f[:-3] not in skip:
                             fp = os.path.join(root, f)
                             rel = os.path.relpath(fp, directory)[:-3].split(os.sep)
                             if rel[-1] == "mod":
@@ -149,6 +146,13 @@ class Directory:
         self.by_name = {module_name(node): node for node in self.nodes if node != MOD}
         self.exports = {}  # (node, item) -> set of nodes it resolves to
         self.mod_items = self.defined_items(mod_code)
+
+    def test_modules(self, path):
+        """The modules that the file at `path` declares under `#[cfg(test)]`."""
+        if not os.path.exists(path):
+            return set()
+        code = strip(self.raw(path))
+        return {m.group(2) for a, b in cfg_test_spans(code) for m in MOD_DECL.finditer(code[a:b])}
 
     @staticmethod
     def raw(path):
