@@ -47,3 +47,4 @@ pub mod measurement;
 pub mod model;
 pub mod report;
 pub mod simulation;
+pub mod units;

@@ -5,7 +5,8 @@
 mod import_common;
 
 use import_common::*;
-use rfeid::io::uff::{parse_uff58, read_uff58, Abscissa, OrdinateType, RecordRef, UffError};
+use rfeid::io::uff::{parse_uff58, read_uff58, Abscissa, OrdinateType, UffError};
+use rfeid::model::RecordRef;
 use std::path::Path;
 
 fn bits(v: &[f64]) -> Vec<u64> {

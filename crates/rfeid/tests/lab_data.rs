@@ -10,11 +10,11 @@ mod import_common;
 use import_common::*;
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{identify, Settings, Silent};
-use rfeid::io::data_file::{default_sources, read_measurement, DataRead};
+use rfeid::io::data_file::{read_measurement, DataRead};
 use rfeid::io::model_file::load_model;
 use rfeid::io::timeseries::{detect_separator, read_csv, DataError};
 use rfeid::measurement::{match_data, Matched, MeasurementError, GRID_TOLERANCE};
-use rfeid::model::Model;
+use rfeid::model::{default_sources, Model};
 use rfeid::simulation::Simulator;
 
 /// The oscillator of the import fixtures (k and c identified), sampled at

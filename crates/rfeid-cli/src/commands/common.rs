@@ -3,11 +3,11 @@ use crate::diagnostics::{model_error, Failure};
 use crate::ui::Ui;
 use rfeid::io::data_file::read_measurement;
 use rfeid::io::model_file::load_model;
-use rfeid::io::units::parse_quantity;
 use rfeid::measurement::match_data;
 use rfeid::model::Model;
 use rfeid::simulation::Response;
 use rfeid::simulation::SimulationError;
+use rfeid::units::parse_quantity;
 use std::path::Path;
 
 /// Loads and validates a model file.

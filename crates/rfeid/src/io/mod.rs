@@ -1,4 +1,4 @@
-//! Reading and writing files: model files, units, time series, and measured
+//! Reading and writing files: model files, time series, and measured
 //! data as CSV, MATLAB MAT-files or Universal File Format dataset 58.
 pub mod atomic;
 pub mod data_file;
@@ -6,4 +6,3 @@ pub mod mat;
 pub mod model_file;
 pub mod timeseries;
 pub mod uff;
-pub mod units;

@@ -5,12 +5,16 @@
 //! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
 //! a fixed number or a reference to a [`Parameter`].
 mod column_name;
+mod data_source;
 mod experiment;
 pub mod geometry;
+mod record_ref;
 mod signal;
 
 pub use column_name::ColumnName;
+pub use data_source::{default_sources, DataSource};
 pub use experiment::{Experiment, Role};
+pub use record_ref::RecordRef;
 pub use signal::{Shape, Signal, Term};
 
 use nalgebra::{Matrix3, Vector3};
@@ -182,7 +186,7 @@ pub struct Parameter {
     /// How to show values to a person: a unit symbol and its SI scale.
     pub unit: DisplayUnit,
     /// Physical dimension, from the places the parameter is used.
-    pub dimension: crate::io::units::Dimension,
+    pub dimension: crate::units::Dimension,
     /// Identified once per fitted experiment (SPEC §5), reported as
     /// `name[experiment]`.
     pub per_experiment: bool,
@@ -301,7 +305,7 @@ pub struct Sensor {
     pub kind: SensorKind,
     /// Where its measured signal is in a data file (column, variable or
     /// record); by default the signal named like the sensor.
-    pub data: crate::io::data_file::DataSource,
+    pub data: DataSource,
     /// Calibration gain (SPEC §5): the reading is `gain · motion + offset`.
     pub gain: Value,
     /// Calibration offset, in the reading's unit.

@@ -12,7 +12,8 @@
 //! and one small symmetric eigenproblem per power-law component.
 use super::equilibrium::static_equilibrium;
 use super::modal::{highest_frequency_at, modal_analysis};
-use super::{Simulator, Workspace};
+use super::simulator::Simulator;
+use super::workspace::Workspace;
 use crate::model::{Law, Shape, COMPONENT_NAMES};
 
 /// The fastest mode of the model linearised along its response.

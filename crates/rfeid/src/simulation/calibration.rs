@@ -3,7 +3,7 @@
 //! the integration, with its exact derivatives: for a sample `y = a g + b`,
 //! `∂y/∂x_j = a ∂g/∂x_j + g [x_j = a] + [x_j = b]` (the rows of H₁ of
 //! eq. 27–28).
-use super::run::Response;
+use super::response::Response;
 use crate::model::Model;
 
 /// Turns the motions in `out` (and their sensitivities `sens` to the

@@ -11,8 +11,9 @@
 //! a thread busy. Since no column depends on its group, the results do not
 //! depend on the number of threads, bit for bit
 //! (`tests/sensitivity_threads.rs`).
-use super::run::{Response, Simulator};
-use super::stepper::Workspace;
+use super::response::Response;
+use super::simulator::Simulator;
+use super::workspace::GroupBuffers;
 use super::SimulationError;
 use rayon::prelude::*;
 
@@ -26,14 +27,6 @@ pub fn group_size(r: usize, threads: usize) -> usize {
     r.div_ceil(threads.max(1))
         .next_multiple_of(4)
         .clamp(4, COLUMN_GROUP)
-}
-
-/// The buffers of one group, kept in the caller's [`Workspace`].
-#[derive(Debug, Clone, Default)]
-pub struct GroupBuffers {
-    ws: Workspace,
-    out: Option<Response>,
-    sens: Vec<f64>,
 }
 
 impl Simulator<'_> {

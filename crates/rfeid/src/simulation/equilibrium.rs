@@ -6,8 +6,9 @@
 //! be singular; the iteration then starts with Levenberg damping. The
 //! sensitivities follow from `K_t ∂q/∂x = −∂R/∂x`.
 use super::envelope::{EnvelopeCholesky, Ordering};
+use super::power_law::power_law;
 use super::structure::Usage;
-use super::system::{power_law, System};
+use super::system::System;
 use super::SimulationError;
 use nalgebra::{DMatrix, DVector};
 

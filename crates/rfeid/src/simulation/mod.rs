@@ -7,13 +7,20 @@ mod columns;
 mod dim;
 mod envelope;
 pub mod equilibrium;
+mod force_derivative;
+mod integrator;
 mod madd;
 pub mod modal;
+mod power_law;
 mod preload;
+mod response;
 pub mod run;
+mod simulate;
+mod simulator;
 mod sines;
 mod sparse;
 mod sparse_tangent;
+mod step_choice;
 mod stepper;
 pub mod steps;
 pub mod structure;
@@ -22,9 +29,13 @@ pub mod tableau;
 mod tangent;
 #[cfg(test)]
 mod test_models;
+mod workspace;
 
-pub use run::{Integrator, Kernel, Response, Sensitivities, Simulator, Workspace};
-pub use steps::StepChoice;
+pub use integrator::{Integrator, Kernel};
+pub use response::{Response, Sensitivities};
+pub use simulator::Simulator;
+pub use step_choice::StepChoice;
+pub use workspace::Workspace;
 
 /// The default integration method.
 pub const DEFAULT_TABLEAU: tableau::Tableau = tableau::DOP853;

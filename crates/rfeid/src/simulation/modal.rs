@@ -11,8 +11,12 @@
 //! linearised at rest it contributes no stiffness. The modes it alone would
 //! restrain appear as zero-stiffness modes, which are reported, not an error.
 use super::equilibrium::static_equilibrium;
-use super::system::{power_law, System};
-use super::{SimulationError, Simulator};
+use super::integrator::integrator;
+use super::power_law::power_law;
+use super::simulator::Simulator;
+use super::system::System;
+use super::SimulationError;
+use crate::model::Model;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 /// One mode.
@@ -126,4 +130,17 @@ pub fn highest_frequency_at(sys: &System<'_>, q: &[f64]) -> f64 {
         .iter()
         .fold(0.0_f64, |m, v| m.max(*v));
     lam.sqrt() / (2.0 * std::f64::consts::PI)
+}
+
+/// The highest natural frequency of the model linearised at rest (or at
+/// equilibrium) at `params`, Hz; `None` if the modal analysis fails.
+pub fn fastest_mode_hz(model: &Model, params: &[f64]) -> Option<f64> {
+    let sim = Simulator::with_integrator(model, integrator(1));
+    modal_analysis(&sim, params)
+        .ok()?
+        .modes
+        .iter()
+        .map(|m| m.frequency_hz)
+        .filter(|f| f.is_finite())
+        .reduce(f64::max)
 }

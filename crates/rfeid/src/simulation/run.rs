@@ -22,287 +22,23 @@
 //! for the model's fastest mode (ωh beyond DOP853's stability limit, about 3
 //! for damped modes) ends in [`SimulationError::Diverged`], which names that
 //! mode, never a hang.
-use super::columns::group_size;
 use super::dim::{Dim, Dynamic, Fixed};
 use super::equilibrium::static_equilibrium;
+use super::integrator::Kernel;
 use super::madd::{Fused, Madd, Separate};
+use super::modal::fastest_mode_hz;
+use super::response::Response;
+use super::simulator::Simulator;
 use super::stepper::Stepper;
-pub use super::stepper::Workspace;
-use super::steps::{choose_steps, estimate_error, fastest_mode_hz, StepChoice};
-use super::structure::{Row, Structure};
-use super::system::System;
-use super::tableau::Tableau;
-use super::{SimulationError, MAX_SUBSTEPS};
-use crate::model::{Model, SensorKind};
+use super::structure::Structure;
+use super::workspace::Workspace;
+use super::SimulationError;
+use crate::model::SensorKind;
 
 /// States beyond this magnitude (m, rad, m/s) count as a divergence.
 const BLOW_UP: f64 = 1e6;
 
-/// Simulated sensor signals: `values[c * n_samples + k]` is sensor c at sample k.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Response {
-    /// Number of samples N.
-    pub n_samples: usize,
-    /// Number of sensors.
-    pub n_sensors: usize,
-    /// Sensor-major signals.
-    pub values: Vec<f64>,
-}
-
-impl Response {
-    /// An all-zero response of the given shape.
-    pub fn zeros(n_sensors: usize, n_samples: usize) -> Self {
-        Response {
-            n_samples,
-            n_sensors,
-            values: vec![0.0; n_sensors * n_samples],
-        }
-    }
-
-    /// The signal of sensor c.
-    pub fn sensor(&self, c: usize) -> &[f64] {
-        &self.values[c * self.n_samples..(c + 1) * self.n_samples]
-    }
-}
-
-/// Sensitivities of every sensor sample to the parameters `wrt`:
-/// `values[(c * n_samples + k) * wrt.len() + j] = ∂y_ck / ∂x_j` (eq. 27–28).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Sensitivities {
-    /// Parameter indices (into [`Model::parameters`]) of the columns.
-    pub wrt: Vec<usize>,
-    /// Row-major (observation × parameter).
-    pub values: Vec<f64>,
-}
-
-/// Integrator settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Integrator {
-    /// The Runge–Kutta method.
-    pub tableau: Tableau,
-    /// Steps per sample interval (≥ 1).
-    pub substeps: usize,
-    /// Split steps at the zero crossings of power-law deformations, where
-    /// the force's second derivative jumps, so the method keeps its order.
-    pub locate_crossings: bool,
-}
-
-/// Which kernel evaluates the equations of motion and their sensitivities.
-/// Both give the same results to rounding.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Kernel {
-    /// The one with fewer operations for the model's size (the default):
-    /// dense for a few bodies, element by element for many.
-    #[default]
-    Auto,
-    /// Dense matrices in register panels (`system`), fastest for a few bodies.
-    Dense,
-    /// Element by element (`sparse`): cost grows with the number of
-    /// components, not with n².
-    Sparse,
-}
-
-/// Simulates one model at any parameter point.
-#[derive(Debug, Clone)]
-pub struct Simulator<'m> {
-    model: &'m Model,
-    kernel: Kernel,
-    structure: Structure,
-    integrator: Integrator,
-    steps: StepChoice,
-    /// Instants where the excitation has a kink or a jump, sorted, within
-    /// the record: steps are split there.
-    breakpoints: Vec<f64>,
-}
-
 impl<'m> Simulator<'m> {
-    /// A simulator with the model's settings and the default method: the
-    /// model's `substeps` if it fixes them, otherwise steps chosen for its
-    /// `tolerance` at the nominal parameter values ([`Simulator::choose`]).
-    /// If no step count meets the tolerance there (or the nominal point
-    /// cannot be simulated at all), it takes [`MAX_SUBSTEPS`] steps and
-    /// [`Simulator::steps`] has no error estimate; use
-    /// [`Simulator::choose`] to have that as an error instead.
-    pub fn new(model: &'m Model) -> Self {
-        match model.sampling.substeps {
-            Some(s) => Self::with_integrator(model, super::steps::integrator(s)),
-            None => Self::choose(model, &model.nominal()).unwrap_or_else(|_| {
-                let mut sim = Self::with_integrator(model, super::steps::integrator(MAX_SUBSTEPS));
-                sim.steps.automatic = true;
-                sim
-            }),
-        }
-    }
-
-    /// A simulator with the model's settings, its steps chosen (or, if the
-    /// model fixes `substeps`, their error estimated) at `params`
-    /// ([`super::steps::choose_steps`]).
-    pub fn choose(model: &'m Model, params: &[f64]) -> Result<Self, SimulationError> {
-        let tolerance = model.sampling.tolerance;
-        let steps = match model.sampling.substeps {
-            Some(s) => StepChoice {
-                substeps: s.max(1),
-                automatic: false,
-                tolerance,
-                estimated_error: Some(estimate_error(model, params, s.max(1))?),
-                runs: 2,
-            },
-            None => choose_steps(model, params, tolerance, 1)?,
-        };
-        let mut sim = Self::with_integrator(model, super::steps::integrator(steps.substeps));
-        sim.steps = steps;
-        Ok(sim)
-    }
-
-    /// A simulator with explicit integrator settings (fixed steps, no
-    /// error estimate).
-    pub fn with_integrator(model: &'m Model, integrator: Integrator) -> Self {
-        let integrator = Integrator {
-            substeps: integrator.substeps.max(1),
-            ..integrator
-        };
-        let end = model
-            .sampling
-            .time(model.sampling.n_samples().saturating_sub(1));
-        let mut breakpoints: Vec<f64> = model
-            .excitations
-            .iter()
-            .flat_map(|e| &e.signal.terms)
-            .flat_map(|term| term.shape.breakpoints())
-            .filter(|t| *t > 0.0 && *t < end)
-            .collect();
-        breakpoints.sort_by(f64::total_cmp);
-        breakpoints.dedup();
-        Simulator {
-            model,
-            kernel: Kernel::Auto,
-            structure: Structure::new(model),
-            breakpoints,
-            integrator,
-            steps: StepChoice {
-                substeps: integrator.substeps,
-                automatic: false,
-                tolerance: model.sampling.tolerance,
-                estimated_error: None,
-                runs: 0,
-            },
-        }
-    }
-
-    /// Uses `kernel` from now on (see [`Kernel`]).
-    pub fn set_kernel(&mut self, kernel: Kernel) {
-        self.kernel = kernel;
-    }
-
-    /// The kernel setting.
-    pub fn kernel(&self) -> Kernel {
-        self.kernel
-    }
-
-    /// How the steps per sample were chosen, and their estimated error.
-    pub fn steps(&self) -> StepChoice {
-        self.steps
-    }
-
-    /// Takes `steps.substeps` steps per sample from now on, recording `steps`.
-    pub fn set_steps(&mut self, steps: StepChoice) {
-        self.integrator.substeps = steps.substeps.max(1);
-        self.steps = StepChoice {
-            substeps: self.integrator.substeps,
-            ..steps
-        };
-    }
-
-    /// The model.
-    pub fn model(&self) -> &'m Model {
-        self.model
-    }
-
-    /// The assembled structure (B, excitation and sensor maps).
-    pub fn structure(&self) -> &Structure {
-        &self.structure
-    }
-
-    /// The integrator settings.
-    pub fn integrator(&self) -> Integrator {
-        self.integrator
-    }
-
-    /// The equations of motion at parameter values `params`.
-    pub fn system(&self, params: &[f64]) -> Result<System<'_>, SimulationError> {
-        System::new(self.model, &self.structure, params)
-    }
-
-    /// Simulates at `params` (all parameters, SI) into `out`.
-    pub fn run(
-        &self,
-        params: &[f64],
-        ws: &mut Workspace,
-        out: &mut Response,
-    ) -> Result<(), SimulationError> {
-        self.integrate(params, &[], ws, out, None)?;
-        super::calibration::apply(self.model, params, &[], out, None);
-        Ok(())
-    }
-
-    /// Simulates at `params` and computes the sensitivities of every sample to
-    /// the parameters `wrt` (indices into [`Model::parameters`]).
-    pub fn run_with_sensitivities(
-        &self,
-        params: &[f64],
-        wrt: &[usize],
-        ws: &mut Workspace,
-        out: &mut Response,
-        sens: &mut Sensitivities,
-    ) -> Result<(), SimulationError> {
-        sens.wrt.clear();
-        sens.wrt.extend_from_slice(wrt);
-        sens.values.clear();
-        // Sized from the model, not from `out`, which may be a reused buffer
-        // of another shape (`integrate` resizes it).
-        let rows = self.model.sensors.len() * self.model.sampling.n_samples();
-        sens.values.resize(rows * wrt.len(), 0.0);
-        let size = group_size(wrt.len(), rayon::current_num_threads());
-        if wrt.len() > size {
-            let mut groups = std::mem::take(&mut ws.groups);
-            let columns = (wrt, size);
-            let result = self.integrate_groups(params, columns, &mut groups, out, &mut sens.values);
-            ws.groups = groups;
-            result?;
-        } else {
-            self.integrate(params, wrt, ws, out, Some(&mut sens.values))?;
-        }
-        super::calibration::apply(self.model, params, wrt, out, Some(&mut sens.values));
-        Ok(())
-    }
-
-    /// The generalized coordinates along the response at `params`, for
-    /// analyses of the trajectory (not for the hot path): `values[i *
-    /// n_samples + k]` is `q_i(t_k) − q_i(0)`, the initial state being rest
-    /// or the static equilibrium under gravity. The same steps as
-    /// [`Simulator::run`], with one displacement reading per coordinate.
-    pub fn coordinates(
-        &self,
-        params: &[f64],
-        ws: &mut Workspace,
-    ) -> Result<Response, SimulationError> {
-        let n = self.structure.n;
-        let mut probe = self.clone();
-        probe.structure.sensors = (0..n)
-            .map(|i| {
-                let mut h = [0.0; 6];
-                h[i % 6] = 1.0;
-                let row = Row {
-                    blocks: vec![(i - i % 6, h)],
-                };
-                (SensorKind::Displacement, row)
-            })
-            .collect();
-        let mut out = Response::zeros(n, self.model.sampling.n_samples());
-        probe.integrate(params, &[], ws, &mut out, None)?;
-        Ok(out)
-    }
-
     /// The response and the sensitivities to `wrt` in one run, into `values`
     /// (sized for them).
     pub(crate) fn integrate_columns(
@@ -316,12 +52,7 @@ impl<'m> Simulator<'m> {
         self.integrate(params, wrt, ws, out, Some(values))
     }
 
-    /// A response buffer of the right shape.
-    pub fn response_buffer(&self) -> Response {
-        Response::zeros(self.model.sensors.len(), self.model.sampling.n_samples())
-    }
-
-    fn integrate(
+    pub(super) fn integrate(
         &self,
         params: &[f64],
         wrt: &[usize],

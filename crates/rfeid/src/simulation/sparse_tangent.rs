@@ -10,13 +10,14 @@
 //! the caller. Every column goes through the same operations in the same
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
+use super::force_derivative::force_derivative;
 use super::madd::Madd;
+use super::power_law::power_law;
 use super::preload::power_change;
 use super::preload::Preload;
 use super::sparse::{SparseComp, SparsePower};
 use super::structure::Usage;
-use super::system::{power_law, System};
-use super::tangent::force_derivative;
+use super::system::System;
 
 /// The identified parameters acting on one component: (column, usage).
 pub(crate) type ComponentUsages = Vec<(usize, Usage)>;

@@ -20,6 +20,7 @@ use super::sines::StageSines;
 use super::system::System;
 use super::tableau::Tableau;
 use super::tangent::Tangent;
+use super::workspace::Workspace;
 use std::marker::PhantomData;
 
 /// Crossings closer together than this fraction of a step are one split.
@@ -28,69 +29,6 @@ use std::marker::PhantomData;
 /// past the threshold, and the criterion would no longer be smooth in the
 /// parameters. (A split at θ → 0 or 1 tends continuously to no split.)
 const MERGE: f64 = 1e-12;
-
-/// Scratch memory for one run; reuse it so that runs do not allocate.
-#[derive(Debug, Clone, Default)]
-pub struct Workspace {
-    pub(crate) y: Vec<f64>,
-    y_new: Vec<f64>,
-    /// Stage states, stages × 2n.
-    y_stage: Vec<f64>,
-    /// Stage derivatives, stages × 2n.
-    pub(crate) k: Vec<f64>,
-    /// Sensitivities, 2n rows of the tangent's width.
-    pub(crate) sy: Vec<f64>,
-    sy_stage: Vec<f64>,
-    /// Stage derivatives of the sensitivities, stages × 2n rows.
-    pub(crate) ks: Vec<f64>,
-    scratch: Vec<f64>,
-    /// Power-law forces of a stage.
-    power_forces: Vec<f64>,
-    forces: Vec<f64>,
-    forces_time: f64,
-    /// Whether `forces` are the limits from before `forces_time`.
-    forces_before: bool,
-    /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
-    phases: Vec<(f64, f64)>,
-    phases_time: f64,
-    crossings: Vec<f64>,
-    /// The buffers of the parameter groups run in parallel (`columns`).
-    pub(crate) groups: Vec<super::columns::GroupBuffers>,
-}
-
-impl Workspace {
-    /// Sizes the buffers for the equations `sys`, a method of `stages` stages,
-    /// sensitivity rows `width` long (zero without sensitivities), the
-    /// sensitivities' `scratch` and `sine_terms` phases; zero-fills them.
-    pub(crate) fn prepare(
-        &mut self,
-        sys: &System<'_>,
-        stages: usize,
-        (width, scratch): (usize, usize),
-        sine_terms: usize,
-    ) {
-        let n = sys.n;
-        let resize = |v: &mut Vec<f64>, len: usize| {
-            v.clear();
-            v.resize(len, 0.0);
-        };
-        resize(&mut self.y, 2 * n);
-        resize(&mut self.y_new, 2 * n);
-        resize(&mut self.y_stage, stages * 2 * n);
-        resize(&mut self.k, stages * 2 * n);
-        resize(&mut self.sy, 2 * n * width);
-        resize(&mut self.sy_stage, 2 * n * width);
-        resize(&mut self.ks, stages * 2 * n * width);
-        resize(&mut self.scratch, scratch);
-        resize(&mut self.forces, sys.minv_loads.len());
-        resize(&mut self.power_forces, sys.scratch_len());
-        self.phases.clear();
-        self.phases.resize(sine_terms, (0.0, 1.0));
-        self.forces_time = f64::NAN;
-        self.phases_time = f64::NAN;
-        self.crossings.clear();
-    }
-}
 
 /// What a step needs: the equations, the method, the sensitivity columns.
 pub(crate) struct Stepper<'a, M: Madd, D: Dim> {

@@ -20,11 +20,15 @@
 //! During an identification the choice is made once and held fixed (the
 //! criterion stays smooth), and checked again at the estimate
 //! ([`crate::identification::identify`]).
-use super::modal::modal_analysis;
-use super::run::{Integrator, Response, Simulator, Workspace};
+use super::response::Response;
+use super::simulator::Simulator;
+use super::step_choice::StepChoice;
+use super::workspace::Workspace;
 use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
 use crate::model::Model;
-use serde::{Deserialize, Serialize};
+
+pub use super::integrator::integrator;
+pub use super::modal::fastest_mode_hz;
 
 /// The text of the `tolerance` range check.
 pub fn tolerance_range_text() -> String {
@@ -34,33 +38,6 @@ pub fn tolerance_range_text() -> String {
         r.start(),
         r.end()
     )
-}
-
-/// How the steps per sample were chosen, and how accurate they are.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct StepChoice {
-    /// Integrator steps per sample interval.
-    pub substeps: usize,
-    /// Whether they were chosen from the tolerance (false: fixed by the
-    /// model's or the command line's `substeps`).
-    pub automatic: bool,
-    /// The tolerance aimed at (relative RMS error).
-    pub tolerance: f64,
-    /// The estimated relative RMS error of the simulated signals (largest
-    /// over the sensors) where it was last checked; `None` if not estimated.
-    pub estimated_error: Option<f64>,
-    /// Simulations the choice and the estimate took.
-    #[serde(default)]
-    pub runs: usize,
-}
-
-/// The integrator with `substeps` steps per sample and the default method.
-pub fn integrator(substeps: usize) -> Integrator {
-    Integrator {
-        tableau: DEFAULT_TABLEAU,
-        substeps,
-        locate_crossings: true,
-    }
 }
 
 /// Relative RMS difference of `a` from `b`, the largest over the sensors.
@@ -205,17 +182,44 @@ pub fn choose_steps(
     }
 }
 
-/// The highest natural frequency of the model linearised at rest (or at
-/// equilibrium) at `params`, Hz; `None` if the modal analysis fails.
-pub fn fastest_mode_hz(model: &Model, params: &[f64]) -> Option<f64> {
-    let sim = Simulator::with_integrator(model, integrator(1));
-    modal_analysis(&sim, params)
-        .ok()?
-        .modes
-        .iter()
-        .map(|m| m.frequency_hz)
-        .filter(|f| f.is_finite())
-        .reduce(f64::max)
+impl<'m> Simulator<'m> {
+    /// A simulator with the model's settings and the default method: the
+    /// model's `substeps` if it fixes them, otherwise steps chosen for its
+    /// `tolerance` at the nominal parameter values ([`Simulator::choose`]).
+    /// If no step count meets the tolerance there (or the nominal point
+    /// cannot be simulated at all), it takes [`MAX_SUBSTEPS`] steps and
+    /// [`Simulator::steps`] has no error estimate; use
+    /// [`Simulator::choose`] to have that as an error instead.
+    pub fn new(model: &'m Model) -> Self {
+        match model.sampling.substeps {
+            Some(s) => Self::with_integrator(model, super::steps::integrator(s)),
+            None => Self::choose(model, &model.nominal()).unwrap_or_else(|_| {
+                let mut sim = Self::with_integrator(model, super::steps::integrator(MAX_SUBSTEPS));
+                sim.steps.automatic = true;
+                sim
+            }),
+        }
+    }
+
+    /// A simulator with the model's settings, its steps chosen (or, if the
+    /// model fixes `substeps`, their error estimated) at `params`
+    /// ([`super::steps::choose_steps`]).
+    pub fn choose(model: &'m Model, params: &[f64]) -> Result<Self, SimulationError> {
+        let tolerance = model.sampling.tolerance;
+        let steps = match model.sampling.substeps {
+            Some(s) => StepChoice {
+                substeps: s.max(1),
+                automatic: false,
+                tolerance,
+                estimated_error: Some(estimate_error(model, params, s.max(1))?),
+                runs: 2,
+            },
+            None => choose_steps(model, params, tolerance, 1)?,
+        };
+        let mut sim = Self::with_integrator(model, super::steps::integrator(steps.substeps));
+        sim.steps = steps;
+        Ok(sim)
+    }
 }
 
 #[cfg(test)]

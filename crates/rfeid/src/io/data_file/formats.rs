@@ -1,10 +1,11 @@
 //! The signals of each format, before the shared checks: a time axis and
 //! one vector per sensor, each with a description of where it came from.
-use super::{DataFileError, DataSource};
+use super::DataFileError;
 use crate::io::mat::read_mat_vectors;
 use crate::io::timeseries::read_csv;
-use crate::io::uff::{read_uff58, Abscissa, RecordRef, UffRecord};
+use crate::io::uff::{read_uff58, Abscissa, UffRecord};
 use crate::model::Model;
+use crate::model::{DataSource, RecordRef};
 use std::path::Path;
 
 /// Signals read from a file, not yet checked.

@@ -21,13 +21,11 @@
 //! records.
 mod error;
 mod formats;
-mod source;
 
 pub use error::DataFileError;
-pub use source::{default_sources, DataSource};
 
 use crate::io::timeseries::TimeSeries;
-use crate::model::Model;
+use crate::model::{DataSource, Model};
 use std::path::Path;
 
 /// The data formats, by file extension.
@@ -66,7 +64,7 @@ pub struct DataRead {
 
 /// Reads the measured signals of `model`'s sensors from `path`;
 /// `sources[i]` says where sensor `i`'s signal is (see
-/// [`default_sources`]).
+/// [`default_sources`](crate::model::default_sources)).
 pub fn read_measurement(
     path: &Path,
     model: &Model,

@@ -177,7 +177,7 @@ pub struct RawSensor {
     pub at: Option<SVec>,
     pub direction: Option<SVec>,
     pub quantity: Option<Spanned<String>>,
-    pub data: Option<Spanned<crate::io::data_file::DataSource>>,
+    pub data: Option<Spanned<crate::model::DataSource>>,
     pub gain: Option<SNum>,
     pub offset: Option<SNum>,
 }

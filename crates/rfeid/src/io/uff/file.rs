@@ -1,5 +1,6 @@
 //! The function records of a file, found by number or name.
-use super::{RecordRef, UffError, UffRecord};
+use super::{UffError, UffRecord};
+use crate::model::RecordRef;
 use std::path::{Path, PathBuf};
 
 /// The function records of a universal file.

@@ -27,13 +27,11 @@ mod file;
 mod header;
 mod lines;
 mod record;
-mod record_ref;
 mod skip;
 mod types;
 
 pub use error::{Context, UffError};
 pub use file::UffFile;
-pub use record_ref::RecordRef;
 pub use types::{Abscissa, OrdinateType, UffRecord};
 
 use error::Ctx;

@@ -1,8 +1,8 @@
 //! One component (ux … rz) of an element: its law and damping.
 use super::ctx::*;
 use crate::io::model_file::raw::*;
-use crate::io::units::Dimension;
 use crate::model::*;
+use crate::units::Dimension;
 use toml::Spanned;
 
 pub(super) fn component(

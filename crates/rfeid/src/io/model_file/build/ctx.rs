@@ -1,9 +1,9 @@
 //! The builder's context (file, text, parameters seen so far) and small helpers.
 use crate::io::model_file::error::ModelFileError;
 use crate::io::model_file::raw::*;
-use crate::io::units::{parse_quantity, Dimension};
 use crate::model::geometry::{check_axes, AxesDefect};
 use crate::model::*;
+use crate::units::{parse_quantity, Dimension};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
 use std::ops::Range;

@@ -1,8 +1,8 @@
 //! `[[experiment]]` entries (SPEC §5): the tests of a campaign.
 use super::ctx::*;
 use crate::io::model_file::raw::*;
-use crate::io::units::{parse_quantity, Dimension};
 use crate::model::*;
+use crate::units::{parse_quantity, Dimension};
 use std::collections::HashMap;
 
 pub(super) fn experiments(

@@ -6,8 +6,8 @@ mod parameters;
 mod signal;
 
 use crate::io::model_file::raw::*;
-use crate::io::units::{parse_quantity, Dimension};
 use crate::model::*;
+use crate::units::{parse_quantity, Dimension};
 use component::component;
 use ctx::*;
 use parameters::finish_parameters;
@@ -394,7 +394,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
                     .map_err(|m| ctx.err(Some(d.span()), &entry, "data", m))?;
                 d.get_ref().clone()
             }
-            None => crate::io::data_file::DataSource::for_sensor(&name),
+            None => crate::model::DataSource::for_sensor(&name),
         };
         let reading = match kind {
             SensorKind::Displacement => Dimension::LENGTH,

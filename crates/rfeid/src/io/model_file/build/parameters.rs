@@ -1,7 +1,7 @@
 //! Parameters: dimensions from their uses, boxes, units.
 use super::ctx::*;
-use crate::io::units::Dimension;
 use crate::model::*;
+use crate::units::Dimension;
 use std::ops::Range;
 
 pub(super) fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {

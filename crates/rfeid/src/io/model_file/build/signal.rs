@@ -2,8 +2,8 @@
 use super::ctx::*;
 use crate::io::model_file::raw::*;
 use crate::io::timeseries::read_csv;
-use crate::io::units::Dimension;
 use crate::model::*;
+use crate::units::Dimension;
 use std::ops::Range;
 use toml::Spanned;
 

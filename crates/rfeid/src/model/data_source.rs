@@ -1,6 +1,5 @@
 //! Where each sensor's measured signal lives in a data file.
-use crate::io::uff::RecordRef;
-use crate::model::Model;
+use super::{Model, RecordRef};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use std::fmt;
 

@@ -36,7 +36,7 @@
 //! # Examples
 //!
 //! ```
-//! use rfeid::io::units::{expect_dimension, parse_quantity, Dimension};
+//! use rfeid::units::{expect_dimension, parse_quantity, Dimension};
 //!
 //! let q = parse_quantity("15 daN/um").unwrap();
 //! assert_eq!(q.dim, Dimension::STIFFNESS);

@@ -1,0 +1,28 @@
+//! The derivative of a component's force with respect to one parameter
+//! ([`force_derivative`]), shared by the dense and the sparse tangents.
+use super::preload::{exponent_change, power_change, Preload};
+use super::structure::Usage;
+use crate::model::PowerSpring;
+
+/// `∂f_i/∂x` of a component's force `f_i = k δ + a sign(δ)|δ|^m + c δ̇`
+/// (eq. 2–7) for the parameter x used as `usage`, at deformation `d` from
+/// the static deformation `pre` (`preload`), as its change from there;
+/// `rate` gives δ̇ (computed only for a damping). `power` is the component's
+/// power-law spring (always present for a power-law usage).
+#[inline(always)]
+pub(super) fn force_derivative(
+    usage: Usage,
+    power: Option<PowerSpring>,
+    pre: &Preload,
+    d: f64,
+    rate: impl FnOnce() -> f64,
+) -> f64 {
+    match (usage, power) {
+        (Usage::Stiffness(_), _) => d,
+        (Usage::Damping(_), _) => rate(),
+        (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_change(1.0, p.m, pre, d).0,
+        (Usage::PowerExponent(_), Some(p)) => exponent_change(p, pre, d),
+        (Usage::PowerCoefficient(_) | Usage::PowerExponent(_), None) => 0.0,
+        (Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..), _) => 0.0,
+    }
+}

@@ -1,0 +1,77 @@
+//! Scratch memory for runs ([`Workspace`]), and the buffers of the
+//! parameter groups integrated in parallel ([`GroupBuffers`], `columns`).
+use super::response::Response;
+#[cfg(doc)]
+use super::sines::StageSines;
+use super::system::System;
+
+/// Scratch memory for one run; reuse it so that runs do not allocate.
+#[derive(Debug, Clone, Default)]
+pub struct Workspace {
+    pub(crate) y: Vec<f64>,
+    pub(super) y_new: Vec<f64>,
+    /// Stage states, stages × 2n.
+    pub(super) y_stage: Vec<f64>,
+    /// Stage derivatives, stages × 2n.
+    pub(crate) k: Vec<f64>,
+    /// Sensitivities, 2n rows of the tangent's width.
+    pub(crate) sy: Vec<f64>,
+    pub(super) sy_stage: Vec<f64>,
+    /// Stage derivatives of the sensitivities, stages × 2n rows.
+    pub(crate) ks: Vec<f64>,
+    pub(super) scratch: Vec<f64>,
+    /// Power-law forces of a stage.
+    pub(super) power_forces: Vec<f64>,
+    pub(super) forces: Vec<f64>,
+    pub(super) forces_time: f64,
+    /// Whether `forces` are the limits from before `forces_time`.
+    pub(super) forces_before: bool,
+    /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
+    pub(super) phases: Vec<(f64, f64)>,
+    pub(super) phases_time: f64,
+    pub(super) crossings: Vec<f64>,
+    /// The buffers of the parameter groups run in parallel (`columns`).
+    pub(crate) groups: Vec<GroupBuffers>,
+}
+
+impl Workspace {
+    /// Sizes the buffers for the equations `sys`, a method of `stages` stages,
+    /// sensitivity rows `width` long (zero without sensitivities), the
+    /// sensitivities' `scratch` and `sine_terms` phases; zero-fills them.
+    pub(crate) fn prepare(
+        &mut self,
+        sys: &System<'_>,
+        stages: usize,
+        (width, scratch): (usize, usize),
+        sine_terms: usize,
+    ) {
+        let n = sys.n;
+        let resize = |v: &mut Vec<f64>, len: usize| {
+            v.clear();
+            v.resize(len, 0.0);
+        };
+        resize(&mut self.y, 2 * n);
+        resize(&mut self.y_new, 2 * n);
+        resize(&mut self.y_stage, stages * 2 * n);
+        resize(&mut self.k, stages * 2 * n);
+        resize(&mut self.sy, 2 * n * width);
+        resize(&mut self.sy_stage, 2 * n * width);
+        resize(&mut self.ks, stages * 2 * n * width);
+        resize(&mut self.scratch, scratch);
+        resize(&mut self.forces, sys.minv_loads.len());
+        resize(&mut self.power_forces, sys.scratch_len());
+        self.phases.clear();
+        self.phases.resize(sine_terms, (0.0, 1.0));
+        self.forces_time = f64::NAN;
+        self.phases_time = f64::NAN;
+        self.crossings.clear();
+    }
+}
+
+/// The buffers of one group, kept in the caller's [`Workspace`].
+#[derive(Debug, Clone, Default)]
+pub struct GroupBuffers {
+    pub(super) ws: Workspace,
+    pub(super) out: Option<Response>,
+    pub(super) sens: Vec<f64>,
+}
