@@ -6,9 +6,12 @@
 #[path = "wide_cases/mod.rs"]
 mod wide_cases;
 
+use nalgebra::DMatrix;
 use rfeid::identification::output_error::{ExperimentData, OutputError};
 use rfeid::identification::pipeline::{identify, Silent};
+use rfeid::identification::problem::LeastSquares;
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::tally::Tally;
 use rfeid::io::model_file::load_model;
 use rfeid::measurement::add_noise;
 use rfeid::model::Model;
@@ -21,19 +24,26 @@ fn campaign() -> Model {
     load_model(&path).expect("the campaign example loads")
 }
 
-/// The experiments `which` of `model`, simulated at the model's values with
-/// 2 % noise (seed `10 seed + e`, as `generate.sh` does), identified.
-fn identify_experiments(model: &Model, which: &[usize], seed: u64) -> IdentificationResult {
-    let models: Vec<Model> = which.iter().map(|&e| model.for_experiment(e)).collect();
-    let parts = which
+/// The experiments `which` of `model` (their models in `models`),
+/// simulated at the model's values, with 2 % noise of seed `10 seed + e`
+/// (as `generate.sh` does) when `seed` is given.
+fn experiments<'m>(
+    model: &Model,
+    models: &'m [Model],
+    which: &[usize],
+    seed: Option<u64>,
+) -> Vec<ExperimentData<'m>> {
+    which
         .iter()
-        .zip(&models)
+        .zip(models)
         .map(|(&e, m)| {
             let sim = Simulator::choose(m, &m.nominal()).expect("steps");
             let mut y = sim.response_buffer();
             sim.run(&m.nominal(), &mut Workspace::default(), &mut y)
                 .expect("simulates");
-            add_noise(&mut y, 0.02, 10 * seed + e as u64);
+            if let Some(seed) = seed {
+                add_noise(&mut y, 0.02, 10 * seed + e as u64);
+            }
             ExperimentData {
                 name: model.experiments[e].name.clone(),
                 sim,
@@ -42,7 +52,13 @@ fn identify_experiments(model: &Model, which: &[usize], seed: u64) -> Identifica
                 weight: 1.0,
             }
         })
-        .collect();
+        .collect()
+}
+
+/// The experiments `which` of `model` with 2 % noise, identified.
+fn identify_experiments(model: &Model, which: &[usize], seed: u64) -> IdentificationResult {
+    let models: Vec<Model> = which.iter().map(|&e| model.for_experiment(e)).collect();
+    let parts = experiments(model, &models, which, Some(seed));
     let settings = wide_cases::default_settings();
     identify(OutputError::campaign(parts), &settings, &Silent).expect("identifies")
 }
@@ -92,4 +108,53 @@ fn three_force_levels_pin_down_coefficient_and_exponent() {
             "{p}: {s3:e} from three levels, {s1:e} from one"
         );
     }
+}
+
+/// Simulations are counted where they run: one per experiment and
+/// evaluation (a criterion at one point of this three-experiment campaign
+/// is three simulations), shared by the criterion's clones.
+#[test]
+fn a_campaign_counts_one_simulation_per_experiment() {
+    let model = campaign();
+    let which: Vec<usize> = (0..model.experiments.len()).collect();
+    let models: Vec<Model> = which.iter().map(|&e| model.for_experiment(e)).collect();
+    let parts = experiments(&model, &models, &which, None);
+    let n = parts.len();
+    assert_eq!(n, 3);
+    let problem = OutputError::campaign(parts);
+    let clone = problem.clone();
+    assert_eq!(problem.tally(), Tally::default());
+    let u = vec![0.5; problem.n_params()];
+    let mut ws = problem.workspace();
+    let mut r = vec![0.0; problem.n_residuals()];
+    problem.residuals(&mut ws, &u, &mut r).unwrap();
+    assert_eq!(problem.tally(), Tally::plain(n));
+    let mut jac = DMatrix::zeros(problem.n_residuals(), problem.n_params());
+    problem
+        .residuals_jacobian(&mut ws, &u, &mut r, &mut jac)
+        .unwrap();
+    clone.simulate_all(&u).unwrap();
+    // Clones share the count.
+    assert_eq!(
+        problem.tally(),
+        Tally {
+            simulations: 2 * n,
+            with_sensitivities: n,
+            failed: 0
+        }
+    );
+    // A failed evaluation is counted as such: a parameter that is not a
+    // number fails every experiment's simulation (a shared parameter).
+    let mut bad = u.clone();
+    bad[0] = f64::NAN;
+    let before = problem.tally();
+    assert!(problem.residuals(&mut ws, &bad, &mut r).is_err());
+    assert_eq!(
+        problem.tally() - before,
+        Tally {
+            simulations: n,
+            with_sensitivities: 0,
+            failed: n
+        }
+    );
 }

@@ -4,8 +4,8 @@
 //!
 //! Like the solvers, this knows no model: it works on any
 //! [`LeastSquares`] problem in normalised coordinates (eq. 17).
-use super::bfgs::Bfgs;
-use super::lm::LevenbergMarquardt;
+use super::bfgs::{Bfgs, BfgsResult};
+use super::lm::{LevenbergMarquardt, LmResult};
 use super::problem::LeastSquares;
 use super::tally::Tally;
 use super::termination::{SolveError, StopReason};
@@ -73,64 +73,67 @@ pub trait LocalSearch {
     ) -> Result<SearchOutcome, SolveError<P::Error>>;
 }
 
-impl LocalSearch for LevenbergMarquardt {
-    fn search<P: LeastSquares>(
-        &self,
-        problem: &P,
-        u0: &[f64],
-        observer: &mut dyn FnMut(usize, f64),
-    ) -> Result<SearchOutcome, SolveError<P::Error>> {
-        let r = self.minimize_observed(problem, u0, observer)?;
-        Ok(SearchOutcome {
-            u: r.u,
-            cost: r.cost,
-            stop: r.stop_reason,
-            iterations: r.iterations,
-            tally: Tally {
-                simulations: r.residual_evaluations,
-                with_sensitivities: r.jacobian_evaluations,
-                failed: r.failed_evaluations,
-            },
-            history: r
-                .history
-                .into_iter()
-                .map(|h| Step {
-                    iteration: h.iteration,
-                    cost: h.cost,
-                    u: h.u,
-                })
-                .collect(),
-        })
+/// Implements [`LocalSearch`] for a solver whose `minimize_observed`
+/// result converts into a [`SearchOutcome`].
+macro_rules! local_search {
+    ($solver:ty) => {
+        impl LocalSearch for $solver {
+            fn search<P: LeastSquares>(
+                &self,
+                problem: &P,
+                u0: &[f64],
+                observer: &mut dyn FnMut(usize, f64),
+            ) -> Result<SearchOutcome, SolveError<P::Error>> {
+                self.minimize_observed(problem, u0, observer)
+                    .map(SearchOutcome::from)
+            }
+        }
+    };
+}
+
+local_search!(LevenbergMarquardt);
+local_search!(Bfgs);
+
+impl<E> From<LmResult<E>> for SearchOutcome {
+    fn from(r: LmResult<E>) -> Self {
+        let tally = Tally {
+            simulations: r.residual_evaluations,
+            with_sensitivities: r.jacobian_evaluations,
+            failed: r.failed_evaluations,
+        };
+        let history = r.history.into_iter().map(|h| (h.iteration, h.cost, h.u));
+        outcome(r.u, r.cost, r.stop_reason, r.iterations, tally, history)
     }
 }
 
-impl LocalSearch for Bfgs {
-    fn search<P: LeastSquares>(
-        &self,
-        problem: &P,
-        u0: &[f64],
-        observer: &mut dyn FnMut(usize, f64),
-    ) -> Result<SearchOutcome, SolveError<P::Error>> {
-        let r = self.minimize_observed(problem, u0, observer)?;
-        Ok(SearchOutcome {
-            u: r.u,
-            cost: r.cost,
-            stop: r.stop_reason,
-            iterations: r.iterations,
-            tally: Tally {
-                simulations: r.cost_evaluations,
-                with_sensitivities: 0,
-                failed: r.failed_evaluations,
-            },
-            history: r
-                .history
-                .into_iter()
-                .map(|h| Step {
-                    iteration: h.iteration,
-                    cost: h.cost,
-                    u: h.u,
-                })
-                .collect(),
-        })
+impl<E> From<BfgsResult<E>> for SearchOutcome {
+    fn from(r: BfgsResult<E>) -> Self {
+        let tally = Tally {
+            simulations: r.cost_evaluations,
+            with_sensitivities: 0,
+            failed: r.failed_evaluations,
+        };
+        let history = r.history.into_iter().map(|h| (h.iteration, h.cost, h.u));
+        outcome(r.u, r.cost, r.stop_reason, r.iterations, tally, history)
+    }
+}
+/// A search's outcome from its parts; `history` as (iteration, J, u).
+fn outcome(
+    u: Vec<f64>,
+    cost: f64,
+    stop: StopReason,
+    iterations: usize,
+    tally: Tally,
+    history: impl Iterator<Item = (usize, f64, Vec<f64>)>,
+) -> SearchOutcome {
+    SearchOutcome {
+        u,
+        cost,
+        stop,
+        iterations,
+        tally,
+        history: history
+            .map(|(iteration, cost, u)| Step { iteration, cost, u })
+            .collect(),
     }
 }

@@ -352,6 +352,44 @@ impl<'m> OutputError<'m> {
     }
 }
 
+impl OutputError<'_> {
+    /// Evaluates every experiment's part into its own rows of `r` (in
+    /// parallel when there are several; `jac` goes to a lone part, which
+    /// writes its Jacobian there directly), counts the simulations (with
+    /// sensitivities or not), and returns the first failure in experiment
+    /// order.
+    fn each_part(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        r: &mut [f64],
+        jac: Option<&mut DMatrix<f64>>,
+        sensitivities: bool,
+        eval: impl Fn(
+                &Part<'_>,
+                &mut PartWorkspace,
+                &mut [f64],
+                Option<&mut DMatrix<f64>>,
+            ) -> Result<(), SimulationError>
+            + Sync,
+    ) -> Result<(), SimulationError> {
+        if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
+            let result = eval(part, pws, r, jac);
+            self.count(std::slice::from_ref(&result), sensitivities);
+            return result;
+        }
+        let rows = self.split_rows(r);
+        let results: Vec<_> = self
+            .parts
+            .par_iter()
+            .zip(ws.parts.par_iter_mut())
+            .zip(rows)
+            .map(|((part, pws), r)| eval(part, pws, r, None))
+            .collect();
+        self.count(&results, sensitivities);
+        first_error(results)
+    }
+}
+
 /// The first failure in experiment order, so that the error does not
 /// depend on which thread failed first.
 fn first_error(results: Vec<Result<(), SimulationError>>) -> Result<(), SimulationError> {
@@ -387,21 +425,9 @@ impl LeastSquares for OutputError<'_> {
         u: &[f64],
         r: &mut [f64],
     ) -> Result<(), SimulationError> {
-        if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
-            let result = part.residuals(pws, u, &self.maps, r);
-            self.count(std::slice::from_ref(&result), false);
-            return result;
-        }
-        let rows = self.split_rows(r);
-        let results: Vec<_> = self
-            .parts
-            .par_iter()
-            .zip(ws.parts.par_iter_mut())
-            .zip(rows)
-            .map(|((part, pws), r)| part.residuals(pws, u, &self.maps, r))
-            .collect();
-        self.count(&results, false);
-        first_error(results)
+        self.each_part(ws, r, None, false, |part, pws, r, _| {
+            part.residuals(pws, u, &self.maps, r)
+        })
     }
 
     fn residuals_jacobian(
@@ -411,21 +437,14 @@ impl LeastSquares for OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> Result<(), SimulationError> {
-        if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
-            let result = part.residuals_jacobian(pws, u, &self.maps, r, Some((jac, 0)));
-            self.count(std::slice::from_ref(&result), true);
-            return result;
+        if self.parts.len() == 1 {
+            return self.each_part(ws, r, Some(jac), true, |part, pws, r, jac| {
+                part.residuals_jacobian(pws, u, &self.maps, r, jac.map(|j| (j, 0)))
+            });
         }
-        let rows = self.split_rows(r);
-        let results: Vec<_> = self
-            .parts
-            .par_iter()
-            .zip(ws.parts.par_iter_mut())
-            .zip(rows)
-            .map(|((part, pws), r)| part.residuals_jacobian(pws, u, &self.maps, r, None))
-            .collect();
-        self.count(&results, true);
-        first_error(results)?;
+        self.each_part(ws, r, None, true, |part, pws, r, _| {
+            part.residuals_jacobian(pws, u, &self.maps, r, None)
+        })?;
         for (part, pws) in self.parts.iter().zip(&ws.parts) {
             let rows = part.n_residuals();
             for j in 0..jac.ncols() {
