@@ -4,10 +4,12 @@
 //! ([`crate::io::model_file`]) or in code, and everything downstream trusts
 //! it. Values are SI. Any coefficient that may be identified is a [`Value`]:
 //! a fixed number or a reference to a [`Parameter`].
+mod edit;
 mod experiment;
 pub mod geometry;
 mod signal;
 
+pub use edit::{EditError, ParameterRef};
 pub use experiment::{Experiment, Role};
 pub use signal::{Shape, Signal, Term};
 
