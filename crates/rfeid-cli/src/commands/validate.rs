@@ -2,13 +2,14 @@
 //! simulated at the estimate (with the steps chosen there) and compared
 //! with the data, sensor by sensor, by the normalised RMS fit that the
 //! verdict also uses (MATLAB `compare`'s).
-use super::campaign::{experiment_data, simulate_at_estimate};
-use super::common::{fix_parameters, load, load_data};
-use super::report::{read_result, render};
 use crate::cli::ValidateArgs;
 use crate::diagnostics::Failure;
 use crate::format::table;
 use crate::outputs::Plan;
+use crate::run::estimate::simulate_at_estimate;
+use crate::run::experiments::experiment_data;
+use crate::run::inputs::{fixed, load, load_data};
+use crate::run::report::{read_result, render};
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::fit_percent;
@@ -42,8 +43,7 @@ struct Fits {
 /// Runs the command.
 pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     let result = read_result(&args.result)?;
-    let mut model = load(&args.model)?;
-    fix_parameters(&mut model, &result.source.set)?;
+    let model = fixed(load(&args.model)?, &result.source.set)?;
     check_belongs(&model, &result, &args)?;
     if args.report.is_some() && !result.experiments.is_empty() {
         return Err(Failure::input_msg(format!(
