@@ -4,6 +4,7 @@ mod commands;
 mod diagnostics;
 mod format;
 mod outputs;
+mod run;
 mod ui;
 
 use clap::Parser;

@@ -1,10 +1,10 @@
 //! `rfeid check`: validate and summarise a model.
-use super::common::load;
 use crate::cli::CheckArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::run::inputs::load;
 use crate::ui::Ui;
-use rfeid::model::{Attachment, Law, Model, COMPONENT_NAMES};
+use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
 
 /// Runs the command.
 pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
@@ -65,10 +65,32 @@ pub fn summary(model: &Model) -> String {
         ));
     }
     out.push_str("\nBodies\n");
-    let value = |v: &rfeid::model::Value| match v {
-        rfeid::model::Value::Fixed(x) => sig(*x, 5),
-        rfeid::model::Value::Param(i) => model.parameters[*i].name.clone(),
-    };
+    out.push_str(&bodies_table(model));
+    out.push_str("\nElements\n");
+    out.push_str(&elements_table(model));
+    out.push_str("\nSensors\n");
+    out.push_str(&sensors_table(model));
+    let identified = model.identified();
+    out.push_str(&format!(
+        "\nParameters ({} identified, {} fixed)\n",
+        identified.len(),
+        model.parameters.len() - identified.len()
+    ));
+    out.push_str(&parameters_table(model));
+    out
+}
+
+/// A coefficient as the summary shows it: a number, or its parameter's name.
+fn value_text(model: &Model, v: &Value) -> String {
+    match v {
+        Value::Fixed(x) => sig(*x, 5),
+        Value::Param(i) => model.parameters[*i].name.clone(),
+    }
+}
+
+/// The bodies: mass, inertia and centre of mass.
+fn bodies_table(model: &Model) -> String {
+    let value = |v: &Value| value_text(model, v);
     let rows: Vec<Vec<String>> = model
         .bodies
         .iter()
@@ -81,11 +103,15 @@ pub fn summary(model: &Model) -> String {
             ]
         })
         .collect();
-    out.push_str(&table(
+    table(
         &["body", "mass kg", "J1, J2, J3 kg·m²", "centre of mass m"],
         &rows,
-    ));
-    out.push_str("\nElements\n");
+    )
+}
+
+/// The elements: what they join and their components' laws.
+fn elements_table(model: &Model) -> String {
+    let value = |v: &Value| value_text(model, v);
     let rows: Vec<Vec<String>> = model
         .elements
         .iter()
@@ -117,8 +143,11 @@ pub fn summary(model: &Model) -> String {
             ]
         })
         .collect();
-    out.push_str(&table(&["element", "joins", "components"], &rows));
-    out.push_str("\nSensors\n");
+    table(&["element", "joins", "components"], &rows)
+}
+
+/// The sensors: what they read, where and along what.
+fn sensors_table(model: &Model) -> String {
     let rows: Vec<Vec<String>> = model
         .sensors
         .iter()
@@ -137,16 +166,11 @@ pub fn summary(model: &Model) -> String {
             ]
         })
         .collect();
-    out.push_str(&table(
-        &["sensor", "reads", "body", "at m", "direction"],
-        &rows,
-    ));
-    let identified = model.identified();
-    out.push_str(&format!(
-        "\nParameters ({} identified, {} fixed)\n",
-        identified.len(),
-        model.parameters.len() - identified.len()
-    ));
+    table(&["sensor", "reads", "body", "at m", "direction"], &rows)
+}
+
+/// The parameters: unit, nominal value, box and scale.
+fn parameters_table(model: &Model) -> String {
     let rows: Vec<Vec<String>> = model
         .parameters
         .iter()
@@ -165,9 +189,8 @@ pub fn summary(model: &Model) -> String {
             vec![p.name.clone(), unit, show(p.value), lo, hi, scale]
         })
         .collect();
-    out.push_str(&table(
+    table(
         &["parameter", "unit", "nominal", "min", "max", "scale"],
         &rows,
-    ));
-    out
+    )
 }

@@ -1,42 +1,16 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use super::common::{apply_steps, report_note};
-use super::identify::{
-    check_limits, json_conflict, result_json, run_search, show_result, suspect_status,
-};
-use super::report::{self, demo_title, reference_of};
-use super::simulate::noise_sensor;
-use crate::cli::DemoArgs;
-use crate::diagnostics::{model_error, Failure};
-use crate::outputs::Plan;
+use crate::cli::{DemoArgs, WeightsArg};
+use crate::diagnostics::Failure;
+use crate::outputs::{Checked, Plan};
+use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::demo_case::{demo_data, demo_model, demo_title, reference_of};
+use crate::run::inputs::stepped;
+use crate::run::limits::check_limits;
+use crate::run::report::render;
+use crate::run::search::run_search;
+use crate::run::show::json_conflict;
 use crate::ui::Ui;
-use rfeid::io::model_file::parse_model;
-use rfeid::measurement::{add_noise, check_noise};
-use rfeid::model::Model;
-use rfeid::simulation::{Response, Simulator, Workspace};
-use std::path::Path;
-
-/// The knee–column benchmark (SPEC §4), built into the binary.
-const KNEE_COLUMN: &str = include_str!("../../../../examples/knee-column/model.toml");
-
-/// The built-in knee–column model.
-pub fn demo_model() -> Result<Model, Failure> {
-    parse_model(KNEE_COLUMN, Path::new("examples/knee-column/model.toml")).map_err(model_error)
-}
-
-/// The demo's data: the model at its true (nominal) values, plus seeded noise.
-pub fn demo_data(model: &Model, noise: Option<f64>, seed: u64) -> Result<Response, Failure> {
-    let sim = Simulator::choose(model, &model.nominal())
-        .map_err(|e| Failure::failed(format!("simulating the data failed: {e}")))?;
-    let mut data = sim.response_buffer();
-    sim.run(&model.nominal(), &mut Workspace::default(), &mut data)
-        .map_err(|e| Failure::failed(format!("simulating the data failed: {e}")))?;
-    if let Some(f) = noise {
-        check_noise(&data, f)
-            .map_err(|e| Failure::input_msg(format!("--noise: {}", noise_sensor(model, e))))?;
-        add_noise(&mut data, f, seed);
-    }
-    Ok(data)
-}
+use rfeid::identification::result::IdentificationResult;
 
 /// Runs the command.
 pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
@@ -44,20 +18,10 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
     // The benchmark's boxes are narrow: no short-window start unless asked.
     args.search.window.get_or_insert(0.0);
     // The paper's equal weights (eq. 14) unless asked.
-    args.search
-        .weights
-        .get_or_insert(crate::cli::WeightsArg::Equal);
-    let mut plan = Plan::new();
-    if let Some(path) = &args.output {
-        plan.file("-o", path);
-    }
-    if let Some(dir) = &args.report {
-        plan.report("--report", dir);
-    }
-    let outputs = plan.check()?;
+    args.search.weights.get_or_insert(WeightsArg::Equal);
+    let outputs = check_outputs(&args)?;
     json_conflict(ui, &outputs)?;
-    let mut model = demo_model()?;
-    apply_steps(&mut model, &args.search.steps)?;
+    let model = stepped(demo_model()?, &args.search.steps)?;
     let data = demo_data(&model, args.noise, args.seed)?;
     match args.noise {
         Some(f) => ui.note(format!(
@@ -80,36 +44,50 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         Some("built-in knee–column benchmark (examples/knee-column/model.toml)".into());
     result.source.demo_noise = args.noise;
     result.source.demo_seed = args.noise.map(|_| args.seed);
-    let mut batch = outputs.batch();
-    if args.report.is_some() {
-        let reference = reference_of(&model, &result);
-        let files = report::render(
-            &model,
-            &result,
-            &data,
-            Some(&reference),
-            &demo_title(&result),
-        )?;
-        batch.report("--report", &files)?;
-    }
-    if args.output.is_some() {
-        batch.file("-o", result_json(&result)?)?;
-    }
-    batch.commit()?;
-    report_note(args.report.as_deref(), ui);
-    let taken = outputs.uses_stdout();
-    if let Some(path) = args.output.as_ref().filter(|_| !taken) {
-        ui.note(format!("result written to {}", path.display()));
-    }
-    show_result(&model, &result, "actual", args.search.timings, taken, ui)?;
-    let written = match &args.output {
-        Some(p) if !taken => p.display().to_string(),
-        Some(_) => "standard output".to_string(),
-        None => "nowhere (no -o)".to_string(),
+    let report = match &args.report {
+        Some(dir) => {
+            let reference = reference_of(&model, &result);
+            let title = demo_title(&result);
+            let files = render(&model, &result, &data, Some(&reference), &title)?;
+            Some((dir.as_path(), files))
+        }
+        None => None,
     };
-    if ui.json || (taken && ui.quiet) {
-        return suspect_status(&result, &written);
+    let taken = outputs.uses_stdout();
+    let closing = Closing {
+        model: &model,
+        result: &result,
+        report,
+        note_report: true,
+        output: args.output.as_deref(),
+        written_note: WrittenNote::BeforeTables,
+        written: match &args.output {
+            Some(p) if !taken => p.display().to_string(),
+            Some(_) => "standard output".to_string(),
+            None => "nowhere (no -o)".to_string(),
+        },
+        reference: "actual",
+        timings: args.search.timings,
+        epilogue: Some(largest_error(&result)),
+    };
+    close(&outputs, closing, ui)
+}
+
+/// The demo's outputs (`-o`, `--report`), checked.
+fn check_outputs(args: &DemoArgs) -> Result<Checked, Failure> {
+    let mut plan = Plan::new();
+    if let Some(path) = &args.output {
+        plan.file("-o", path);
     }
+    if let Some(dir) = &args.report {
+        plan.report("--report", dir);
+    }
+    plan.check()
+}
+
+/// The largest error of the estimates against the true values, beside the
+/// paper's.
+fn largest_error(result: &IdentificationResult) -> String {
     let worst = result
         .parameters
         .iter()
@@ -120,14 +98,8 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
             )
         })
         .fold(("", 0.0), |a, b| if b.1 > a.1 { b } else { a });
-    let line = format!(
+    format!(
         "largest error: {:.4}% ({}); the paper's was 11.4% (h_t3) after about 7.3 hours",
         worst.1, worst.0
-    );
-    if taken {
-        eprintln!("{line}");
-    } else {
-        println!("{line}");
-    }
-    suspect_status(&result, &written)
+    )
 }

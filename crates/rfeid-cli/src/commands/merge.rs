@@ -9,16 +9,20 @@
 //! round-trip exactness), so the result equals the single run's in every
 //! field but the wall times (`timings`, where `plan` is the shards' summed
 //! wall time) and the thread count.
-use super::common::{apply_steps, load, load_data};
-use super::identify::{
-    identify_failure, json_conflict, prepare, result_json, show_result, suspect_status,
-};
-use super::shard::{read_shard, resolve, run_hash, share, ShardFile};
 use crate::cli::MergeArgs;
 use crate::diagnostics::Failure;
-use crate::outputs::Plan;
+use crate::outputs::{Checked, Plan};
+use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::failures::identify_failure;
+use crate::run::inputs::{load, load_data, stepped};
+use crate::run::report::render;
+use crate::run::search::prepare;
+use crate::run::shard_file::{read_shard, resolve, run_hash, share, ShardFile};
+use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use rfeid::identification::pipeline::{finish, plan, PointOutcome};
+use rfeid::model::Model;
+use std::path::Path;
 
 /// Runs the command.
 pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
@@ -32,20 +36,8 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     check_together(&args, &shards)?;
     let model_path = resolve(&first.model, first_path);
     let data_path = resolve(&first.data, first_path);
-    let mut model = load(&model_path)?;
-    let mut outputs = Plan::new();
-    outputs.input(&model_path).input(&data_path);
-    for p in &args.shards {
-        outputs.input(p);
-    }
-    for f in &model.files {
-        outputs.input(f);
-    }
-    outputs.file("-o", &args.output);
-    if let Some(dir) = &args.report {
-        outputs.report("--report", dir);
-    }
-    let outputs = outputs.check()?;
+    let model = load(&model_path)?;
+    let outputs = check_outputs(&args, &model, &model_path, &data_path)?;
     json_conflict(ui, &outputs)?;
     let hash = run_hash(&model_path, &model, &data_path, &first.search)?;
     if hash != first.hash {
@@ -63,19 +55,77 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         .map_err(|e| {
             Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
         })?;
-    apply_steps(&mut model, &search.steps)?;
+    let model = stepped(model, &search.steps)?;
     let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
     progress.bar.finish_and_clear();
     let plan = plan(&problem, &settings).map_err(identify_failure)?;
-    let mut outcomes: Vec<Option<PointOutcome>> = vec![None; plan.len()];
+    let outcomes = gather(&args, &shards, plan.len())?;
+    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
+    let mut result = finish(problem, &settings, &plan, outcomes, seconds, &progress)
+        .map_err(identify_failure)?;
+    result.source.model = Some(first.model.clone());
+    result.source.data = Some(first.data.clone());
+    let report = match &args.report {
+        Some(dir) => {
+            let title = format!("{} with {}", first.model, first.data);
+            Some((
+                dir.as_path(),
+                render(&model, &result, &measured, None, &title)?,
+            ))
+        }
+        None => None,
+    };
+    let closing = Closing {
+        model: &model,
+        result: &result,
+        report,
+        note_report: false,
+        output: Some(&args.output),
+        written_note: WrittenNote::AfterTables,
+        written: args.output.display().to_string(),
+        reference: "nominal",
+        timings: args.timings,
+        epilogue: None,
+    };
+    close(&outputs, closing, ui)
+}
+
+/// The merge's inputs (model, data, shards) and outputs, checked.
+fn check_outputs(
+    args: &MergeArgs,
+    model: &Model,
+    model_path: &Path,
+    data_path: &Path,
+) -> Result<Checked, Failure> {
+    let mut outputs = Plan::new();
+    outputs.input(model_path).input(data_path);
+    for p in &args.shards {
+        outputs.input(p);
+    }
+    for f in &model.files {
+        outputs.input(f);
+    }
+    outputs.file("-o", &args.output);
+    if let Some(dir) = &args.report {
+        outputs.report("--report", dir);
+    }
+    outputs.check()
+}
+
+/// The outcome of every plan point of a plan of `points`, from the shards.
+fn gather(
+    args: &MergeArgs,
+    shards: &[ShardFile],
+    points: usize,
+) -> Result<Vec<PointOutcome>, Failure> {
+    let mut outcomes: Vec<Option<PointOutcome>> = vec![None; points];
     for (s, path) in shards.iter().zip(&args.shards) {
         for p in &s.points {
             let slot = outcomes.get_mut(p.index).ok_or_else(|| {
                 Failure::input_msg(format!(
-                    "{}: point {} lies beyond the plan of {}",
+                    "{}: point {} lies beyond the plan of {points}",
                     path.display(),
                     p.index,
-                    plan.len()
                 ))
             })?;
             *slot = Some(match (&p.cost, &p.failure) {
@@ -91,32 +141,12 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
             });
         }
     }
-    let outcomes: Vec<PointOutcome> = outcomes
+    outcomes
         .into_iter()
         .enumerate()
         .map(|(i, o)| o.ok_or_else(|| Failure::input_msg(format!("no shard holds plan point {i}"))))
-        .collect::<Result<_, _>>()?;
-    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
-    let mut result = finish(problem, &settings, &plan, outcomes, seconds, &progress)
-        .map_err(identify_failure)?;
-    result.source.model = Some(first.model.clone());
-    result.source.data = Some(first.data.clone());
-    let mut batch = outputs.batch();
-    if args.report.is_some() {
-        let title = format!("{} with {}", first.model, first.data);
-        let files = super::report::render(&model, &result, &measured, None, &title)?;
-        batch.report("--report", &files)?;
-    }
-    batch.file("-o", result_json(&result)?)?;
-    batch.commit()?;
-    let taken = outputs.uses_stdout();
-    show_result(&model, &result, "nominal", args.timings, taken, ui)?;
-    if !taken {
-        ui.note(format!("result written to {}", args.output.display()));
-    }
-    suspect_status(&result, &args.output.display().to_string())
+        .collect()
 }
-
 /// The shards belong to one run, cover every shard number once, and are
 /// each complete.
 fn check_together(args: &MergeArgs, shards: &[ShardFile]) -> Result<(), Failure> {

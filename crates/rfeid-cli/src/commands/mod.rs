@@ -1,12 +1,10 @@
-//! One module per command.
-pub mod campaign;
+//! One module per command, each thin over the shared layer
+//! ([`crate::run`]); no command imports another.
 pub mod check;
-pub mod common;
 pub mod demo;
 pub mod identify;
 pub mod merge;
 pub mod modal;
 pub mod report;
-pub mod shard;
 pub mod simulate;
 pub mod validate;

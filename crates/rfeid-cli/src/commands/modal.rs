@@ -1,12 +1,14 @@
 //! `rfeid modal`: modes of the linearised model.
-use super::common::{apply_sets, load, simulation_failure};
-use super::identify::json_conflict;
 use crate::cli::ModalArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
 use crate::outputs::Plan;
+use crate::run::failures::simulation_failure;
+use crate::run::inputs::{apply_sets, load};
+use crate::run::show::json_conflict;
 use crate::ui::Ui;
-use rfeid::simulation::modal::modal_analysis;
+use rfeid::model::Model;
+use rfeid::simulation::modal::{modal_analysis, ModalAnalysis};
 use rfeid::simulation::Simulator;
 
 /// Runs the command.
@@ -49,6 +51,15 @@ pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
     if ui.json {
         return ui.print_json(&json);
     }
+    print_modes(&modal);
+    if args.shapes {
+        print_shapes(&model, &modal);
+    }
+    Ok(())
+}
+
+/// The modes' table, with notes on what it leaves out.
+fn print_modes(modal: &ModalAnalysis) {
     println!(
         "Modes of the model linearised {}",
         if modal.at_equilibrium {
@@ -87,23 +98,24 @@ pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
         println!("note: zero-stiffness modes are rigid-body motions that no linear spring restrains at this point.");
     }
     println!("damping ratios are modal projections φᵀCφ/(2ω): exact for proportional damping, approximate otherwise.");
-    if args.shapes {
-        let names: Vec<String> = model
-            .bodies
+}
+
+/// Each mode's shape, scaled to a peak of 1.
+fn print_shapes(model: &Model, modal: &ModalAnalysis) {
+    let names: Vec<String> = model
+        .bodies
+        .iter()
+        .flat_map(|b| ["u1", "u2", "u3", "φ1", "φ2", "φ3"].map(|c| format!("{}.{c}", b.name)))
+        .collect();
+    for (i, m) in modal.modes.iter().enumerate() {
+        let peak = m
+            .shape
             .iter()
-            .flat_map(|b| ["u1", "u2", "u3", "φ1", "φ2", "φ3"].map(|c| format!("{}.{c}", b.name)))
-            .collect();
-        for (i, m) in modal.modes.iter().enumerate() {
-            let peak = m
-                .shape
-                .iter()
-                .fold(0.0_f64, |a, v| a.max(v.abs()))
-                .max(f64::MIN_POSITIVE);
-            println!("\nmode {} shape (scaled to a peak of 1):", i + 1);
-            for (n, v) in names.iter().zip(&m.shape) {
-                println!("  {n:<14} {:>8.4}", v / peak);
-            }
+            .fold(0.0_f64, |a, v| a.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
+        println!("\nmode {} shape (scaled to a peak of 1):", i + 1);
+        for (n, v) in names.iter().zip(&m.shape) {
+            println!("  {n:<14} {:>8.4}", v / peak);
         }
     }
-    Ok(())
 }

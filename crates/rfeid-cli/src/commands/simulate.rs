@@ -1,11 +1,15 @@
 //! `rfeid simulate`: the response at nominal (or `--set`) parameter values.
-use super::common::{apply_sets, apply_steps, load, simulation_failure, steps_note};
 use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
-use crate::outputs::Plan;
+use crate::outputs::{Checked, Plan};
+use crate::run::experiments::experiment_model;
+use crate::run::failures::{noise_sensor, simulation_failure};
+use crate::run::inputs::{apply_sets, load, stepped};
+use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv_to;
 use rfeid::measurement::{add_noise, check_noise, rms, to_timeseries};
+use rfeid::model::Model;
 use rfeid::simulation::{Simulator, Workspace};
 
 /// Runs the command.
@@ -14,21 +18,9 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(name) = &args.experiment {
         model = experiment_model(&model, &args.model, name)?;
     }
-    apply_steps(&mut model, &args.steps)?;
-    let mut plan = Plan::new();
-    plan.input(&args.model).file("-o", &args.output);
-    for f in &model.files {
-        plan.input(f);
-    }
-    if let Some(p) = &args.plot {
-        plan.file("--plot", p);
-    }
-    let outputs = plan.check()?;
-    if ui.json && outputs.uses_stdout() {
-        return Err(Failure::input_msg(
-            "--json: standard output already carries an output file (-); drop one of them",
-        ));
-    }
+    let model = stepped(model, &args.steps)?;
+    let outputs = check_outputs(&args, &model)?;
+    json_conflict(ui, &outputs)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
     if let Some(f) = args.noise {
@@ -97,39 +89,15 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The model as experiment `name` sees it; an unknown name is bad input
-/// that lists the experiments.
-pub fn experiment_model(
-    model: &rfeid::model::Model,
-    path: &std::path::Path,
-    name: &str,
-) -> Result<rfeid::model::Model, Failure> {
-    let e = model.experiment_index(name).ok_or_else(|| {
-        let known: Vec<&str> = model.experiments.iter().map(|e| e.name.as_str()).collect();
-        Failure::input_msg(format!(
-            "--experiment {name}: {} has no such [[experiment]] ({})",
-            path.display(),
-            if known.is_empty() {
-                "it has none".to_string()
-            } else {
-                format!("experiments: {}", known.join(", "))
-            }
-        ))
-    })?;
-    Ok(model.for_experiment(e))
-}
-
-/// A noise error with the sensor named.
-pub fn noise_sensor(model: &rfeid::model::Model, e: rfeid::measurement::NoiseError) -> String {
-    use rfeid::measurement::NoiseError;
-    let sensor = match &e {
-        NoiseError::Overflow { sensor, .. } | NoiseError::BelowRounding { sensor, .. } => {
-            model.sensors.get(*sensor).map(|s| s.name.as_str())
-        }
-        NoiseError::BadFraction { .. } => None,
-    };
-    match sensor {
-        Some(name) => format!("{e} ('{name}')"),
-        None => e.to_string(),
+/// The run's inputs and outputs (`-o`, `--plot`), checked.
+fn check_outputs(args: &SimulateArgs, model: &Model) -> Result<Checked, Failure> {
+    let mut plan = Plan::new();
+    plan.input(&args.model).file("-o", &args.output);
+    for f in &model.files {
+        plan.input(f);
     }
+    if let Some(p) = &args.plot {
+        plan.file("--plot", p);
+    }
+    plan.check()
 }

@@ -2,16 +2,18 @@
 //! simulated at the estimate (with the steps chosen there) and compared
 //! with the data, sensor by sensor, by the normalised RMS fit that the
 //! verdict also uses (MATLAB `compare`'s).
-use super::campaign::{experiment_data, simulate_at_estimate};
-use super::common::{fix_parameters, load, load_data};
-use super::report::{read_result, render};
 use crate::cli::ValidateArgs;
 use crate::diagnostics::Failure;
 use crate::format::table;
 use crate::outputs::Plan;
+use crate::run::estimate::simulate_at_estimate;
+use crate::run::experiments::experiment_data;
+use crate::run::inputs::{fixed, load, load_data};
+use crate::run::report::{read_result, render};
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::fit_percent;
+use rfeid::model::ColumnName;
 use rfeid::model::{Model, Role};
 use rfeid::simulation::Response;
 use serde::Serialize;
@@ -42,8 +44,7 @@ struct Fits {
 /// Runs the command.
 pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     let result = read_result(&args.result)?;
-    let mut model = load(&args.model)?;
-    fix_parameters(&mut model, &result.source.set)?;
+    let model = fixed(load(&args.model)?, &result.source.set)?;
     check_belongs(&model, &result, &args)?;
     if args.report.is_some() && !result.experiments.is_empty() {
         return Err(Failure::input_msg(format!(
@@ -75,7 +76,7 @@ pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let mut all = Vec::new();
     for case in &cases {
-        let fitted = simulate_at_estimate(&result, &case.model, &case.experiment)?;
+        let (fitted, _) = simulate_at_estimate(&result, &case.model, &case.experiment)?;
         let fits = (0..case.model.sensors.len())
             .map(|c| {
                 fit_percent(
@@ -201,12 +202,8 @@ fn check_belongs(
     args: &ValidateArgs,
 ) -> Result<(), Failure> {
     for p in &result.parameters {
-        let name = p
-            .name
-            .strip_suffix(']')
-            .and_then(|n| n.split_once('['))
-            .map_or(p.name.as_str(), |(n, _)| n);
-        if model.parameter_index(name).is_none() {
+        let column: ColumnName = p.name.parse().expect("infallible");
+        if model.parameter_index(&column.name).is_none() {
             return Err(Failure::input_msg(format!(
                 "{}: field 'parameters': '{}' is not a parameter of {}: the result belongs to another model",
                 args.result.display(),

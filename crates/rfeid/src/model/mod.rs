@@ -6,6 +6,7 @@
 //! a fixed number or a reference to a [`Parameter`].
 mod column_name;
 mod data_source;
+mod edit;
 mod experiment;
 pub mod geometry;
 mod record_ref;
@@ -13,6 +14,7 @@ mod signal;
 
 pub use column_name::ColumnName;
 pub use data_source::{default_sources, DataSource};
+pub use edit::{EditError, ParameterRef};
 pub use experiment::{Experiment, Role};
 pub use record_ref::RecordRef;
 pub use signal::{Shape, Signal, Term};

@@ -1,12 +1,14 @@
-//! What several commands share: loading a model and its data, `--set`.
+//! Inputs of a run: a model file, its measured data, `--set` and
+//! `--tolerance` / `--substeps`. Edits of a model go through the library's
+//! validated edits ([`Model::with_fixed`], [`Model::with_steps`]).
+use crate::cli::StepArgs;
 use crate::diagnostics::{model_error, Failure};
 use crate::ui::Ui;
 use rfeid::io::data_file::read_measurement;
 use rfeid::io::model_file::load_model;
 use rfeid::measurement::match_data;
-use rfeid::model::Model;
-use rfeid::simulation::Response;
-use rfeid::simulation::SimulationError;
+use rfeid::model::{EditError, Model};
+use rfeid::simulation::{Response, MAX_SUBSTEPS};
 use rfeid::units::parse_quantity;
 use std::path::Path;
 
@@ -33,7 +35,8 @@ pub fn load_data(path: &Path, model: &Model, ui: &Ui) -> Result<Response, Failur
 }
 
 /// Applies `NAME=VALUE` settings to parameter values (SI); a value with a
-/// unit must have the parameter's dimension.
+/// unit must have the parameter's dimension. A value outside the
+/// parameter's box is warned about, not refused.
 pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<(), Failure> {
     for s in sets {
         let (i, value) = parse_set(model, s)?;
@@ -52,16 +55,41 @@ pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<
     Ok(())
 }
 
-/// Fixes parameters for one run (`identify --set NAME=VALUE`): each takes
-/// its value and loses its box, so it is not identified.
-pub fn fix_parameters(model: &mut Model, sets: &[String]) -> Result<(), Failure> {
-    for s in sets {
-        let (i, value) = parse_set(model, s)?;
-        let p = &mut model.parameters[i];
-        p.value = value;
-        p.bounds = None;
+/// The model with parameters fixed for one run (`identify --set
+/// NAME=VALUE`): each takes its value and loses its box, so it is not
+/// identified.
+pub fn fixed(model: Model, sets: &[String]) -> Result<Model, Failure> {
+    sets.iter().try_fold(model, |model, s| {
+        let (i, value) = parse_set(&model, s)?;
+        model.with_fixed(i, value).map_err(set_failure)
+    })
+}
+
+/// The model with `--tolerance` and `--substeps` applied to its sampling.
+pub fn stepped(model: Model, a: &StepArgs) -> Result<Model, Failure> {
+    model
+        .with_steps(a.tolerance, a.substeps)
+        .map_err(|e| match e {
+            EditError::Tolerance(t) => Failure::input_msg(format!(
+                "--tolerance {t}: {}",
+                rfeid::simulation::steps::tolerance_range_text()
+            )),
+            EditError::Substeps(s) => {
+                Failure::input_msg(format!("--substeps {s}: must be 1 to {MAX_SUBSTEPS}"))
+            }
+            other => Failure::input_msg(other),
+        })
+}
+
+/// A refused `--set` edit as bad input, worded like [`parse_set`]'s own
+/// refusals.
+fn set_failure(e: EditError) -> Failure {
+    match e {
+        EditError::NotFinite { name, .. } => {
+            Failure::input_msg(format!("--set {name}: not a finite number"))
+        }
+        other => Failure::input_msg(format!("--set: {other}")),
     }
-    Ok(())
 }
 
 /// One `NAME=VALUE`: the parameter's index and the value in SI.
@@ -92,66 +120,4 @@ fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), Failure> {
         )));
     }
     Ok((i, q.value))
-}
-
-/// A failed simulation at user-chosen values: parameter values the model
-/// cannot take (from `--set`) are bad input (exit 2); a run that diverges is
-/// a failed computation (exit 1).
-pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
-    match e {
-        SimulationError::BadParameter { .. }
-        | SimulationError::NonPositiveInertia { .. }
-        | SimulationError::BadExponent { .. } => Failure::input_msg(format!("{what}: {e}")),
-        _ => Failure::failed(format!("{what}: {e}")),
-    }
-}
-
-/// Applies `--tolerance` and `--substeps` to the model's sampling.
-pub fn apply_steps(model: &mut Model, a: &crate::cli::StepArgs) -> Result<(), Failure> {
-    use rfeid::simulation::{MAX_SUBSTEPS, TOLERANCE_RANGE};
-    if let Some(t) = a.tolerance {
-        if !TOLERANCE_RANGE.contains(&t) {
-            return Err(Failure::input_msg(format!(
-                "--tolerance {t}: {}",
-                rfeid::simulation::steps::tolerance_range_text()
-            )));
-        }
-        model.sampling.tolerance = t;
-    }
-    if let Some(s) = a.substeps {
-        if !(1..=MAX_SUBSTEPS).contains(&s) {
-            return Err(Failure::input_msg(format!(
-                "--substeps {s}: must be 1 to {MAX_SUBSTEPS}"
-            )));
-        }
-        model.sampling.substeps = Some(s);
-    }
-    Ok(())
-}
-
-/// The integrator's steps in words, with their estimated error.
-pub fn steps_note(steps: &rfeid::simulation::StepChoice) -> String {
-    format!(
-        "integrator: {} step(s) per sample ({}), estimated relative error {}",
-        steps.substeps,
-        if steps.automatic {
-            format!("chosen for tolerance {:.0e}", steps.tolerance)
-        } else {
-            "fixed".to_string()
-        },
-        steps
-            .estimated_error
-            .map(|e| format!("{e:.1e}"))
-            .unwrap_or_else(|| "not estimated".into())
-    )
-}
-
-/// Notes where a run's report was written, if it wrote one.
-pub fn report_note(dir: Option<&Path>, ui: &Ui) {
-    if let Some(dir) = dir {
-        ui.note(format!(
-            "report written to {}",
-            dir.join("report.html").display()
-        ));
-    }
 }

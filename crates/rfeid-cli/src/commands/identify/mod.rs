@@ -1,0 +1,118 @@
+//! `rfeid identify`: the full pipeline on measured data, in stages: the
+//! arguments checked, the model loaded and edited, the outputs checked,
+//! the data read, the search run, the run closed. A model with
+//! `[[experiment]]` entries goes to [`campaign`], `--shard` to [`shard`].
+mod campaign;
+mod shard;
+
+use crate::cli::{IdentifyArgs, StartArg};
+use crate::diagnostics::Failure;
+use crate::outputs::{Checked, Plan};
+use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::inputs::{fixed, load, load_data, stepped};
+use crate::run::limits::check_limits;
+use crate::run::report::render;
+use crate::run::search::{run_search_from, start_of};
+use crate::run::shard_arg::parse_shard;
+use crate::run::show::json_conflict;
+use crate::ui::Ui;
+use rfeid::model::Model;
+use rfeid::simulation::Response;
+use std::path::Path;
+
+/// Runs the command.
+pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
+    check_limits(&args.search)?;
+    let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    check_combinations(&args, shard.is_some())?;
+    let model = stepped(fixed(load(&args.model)?, &args.set)?, &args.search.steps)?;
+    if !model.experiments.is_empty() {
+        return campaign::run(&args, &model, ui);
+    }
+    let data = args.data.as_deref().ok_or_else(|| {
+        Failure::input_msg(format!(
+            "--data DATA is needed: {} lists no [[experiment]] with data files of its own",
+            args.model.display()
+        ))
+    })?;
+    let outputs = check_outputs(&args, data, &model)?;
+    json_conflict(ui, &outputs)?;
+    let measured = load_data(data, &model, ui)?;
+    if let Some(shard) = shard {
+        return shard::run(&args, data, &model, measured, shard, &outputs, ui);
+    }
+    single(&args, data, &model, measured, &outputs, ui)
+}
+
+/// Refuses options that do not go together.
+fn check_combinations(args: &IdentifyArgs, sharded: bool) -> Result<(), Failure> {
+    if sharded && args.report.is_some() {
+        return Err(Failure::input_msg(
+            "--report with --shard: a shard has no result to report; give --report to `rfeid merge`",
+        ));
+    }
+    if sharded && (!args.set.is_empty() || args.start == StartArg::Values) {
+        return Err(Failure::input_msg(
+            "--set or --start values with --shard: shards share one run's model file; write the values into a copy of the model file instead",
+        ));
+    }
+    if args.start == StartArg::Values && args.search.starts != 1 {
+        return Err(Failure::input_msg(format!(
+            "--starts {} with --start values: the search starts once, from the values",
+            args.search.starts
+        )));
+    }
+    Ok(())
+}
+
+/// The run's inputs and outputs, checked before anything is computed.
+fn check_outputs(args: &IdentifyArgs, data: &Path, model: &Model) -> Result<Checked, Failure> {
+    let mut plan = Plan::new();
+    plan.input(&args.model).input(data).file("-o", &args.output);
+    for f in &model.files {
+        plan.input(f);
+    }
+    if let Some(dir) = &args.report {
+        plan.report("--report", dir);
+    }
+    plan.check()
+}
+
+/// One identification on one data file, closed with its outputs.
+fn single(
+    args: &IdentifyArgs,
+    data: &Path,
+    model: &Model,
+    measured: Response,
+    outputs: &Checked,
+    ui: &Ui,
+) -> Result<(), Failure> {
+    let start = start_of(args.start);
+    let mut result = run_search_from(model, measured.clone(), &args.search, start, ui)?;
+    result.source.set = args.set.clone();
+    result.source.model = Some(args.model.display().to_string());
+    result.source.data = Some(data.display().to_string());
+    let report = match &args.report {
+        Some(dir) => {
+            let title = format!("{} with {}", args.model.display(), data.display());
+            Some((
+                dir.as_path(),
+                render(model, &result, &measured, None, &title)?,
+            ))
+        }
+        None => None,
+    };
+    let closing = Closing {
+        model,
+        result: &result,
+        report,
+        note_report: true,
+        output: Some(&args.output),
+        written_note: WrittenNote::AfterTables,
+        written: args.output.display().to_string(),
+        reference: "nominal",
+        timings: args.search.timings,
+        epilogue: None,
+    };
+    close(outputs, closing, ui)
+}

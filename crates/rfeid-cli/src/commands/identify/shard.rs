@@ -1,0 +1,157 @@
+//! `rfeid identify … --shard K/N`: one share of the LP_τ plan, written to a
+//! shard file ([`crate::run::shard_file`]) that `rfeid merge` continues
+//! from. The file is rewritten every [`CHECKPOINT_SECONDS`] while the
+//! shard runs, so a killed shard resumes, when run again with the same
+//! `-o`, from its last checkpoint without redoing finished points.
+use crate::cli::IdentifyArgs;
+use crate::diagnostics::Failure;
+use crate::outputs::Checked;
+use crate::run::failures::identify_failure;
+use crate::run::search::prepare;
+use crate::run::shard_file::{
+    read_shard, run_hash, share, write, PointRecord, SearchSpec, ShardFile, FORMAT,
+};
+use crate::ui::Ui;
+use rfeid::identification::output_error::OutputError;
+use rfeid::identification::pipeline::{evaluate_points, plan, Silent};
+use rfeid::identification::plan::Plan;
+use rfeid::model::Model;
+use rfeid::simulation::Response;
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+
+/// A shard file is rewritten at least this often while its points run.
+pub const CHECKPOINT_SECONDS: f64 = 10.0;
+
+/// Runs shard `(k, n)` of `args`' identification and writes its file.
+pub fn run(
+    args: &IdentifyArgs,
+    data: &Path,
+    model: &Model,
+    measured: Response,
+    (k, n): (usize, usize),
+    outputs: &Checked,
+    ui: &Ui,
+) -> Result<(), Failure> {
+    let spec = SearchSpec::of(&args.search);
+    let hash = run_hash(&args.model, model, data, &spec)?;
+    let mut file = ShardFile {
+        format: FORMAT.into(),
+        hash,
+        shard: k,
+        of: n,
+        search: spec,
+        model: args.model.display().to_string(),
+        data: data.display().to_string(),
+        seconds: 0.0,
+        complete: false,
+        points: Vec::new(),
+    };
+    let to_stdout = args.output == Path::new("-");
+    let mut done = if to_stdout {
+        BTreeMap::new()
+    } else {
+        resumed(&args.output, &mut file)?
+    };
+    let (problem, settings, progress) = prepare(model, measured, &args.search, ui)?;
+    progress.bar.finish_and_clear();
+    let plan = plan(&problem, &settings).map_err(identify_failure)?;
+    let mine = share(k, n, plan.len());
+    // Only this shard's points count; anything else in the file is dropped.
+    done.retain(|i, _| i % n == k && *i < plan.len());
+    if !done.is_empty() {
+        ui.note(format!(
+            "shard {k}/{n}: resuming, {} of its {} points already done",
+            done.len(),
+            mine.len()
+        ));
+    }
+    let checkpoints = (!to_stdout).then_some(outputs);
+    evaluate(&problem, &plan, &mine, &mut done, &mut file, checkpoints)?;
+    file.complete = true;
+    write(outputs, &file)?;
+    let failed = file.points.iter().filter(|p| p.cost.is_none()).count();
+    ui.note(format!(
+        "shard {k}/{n}: {} plan points ({} failed) written to {}",
+        file.points.len(),
+        failed,
+        args.output.display()
+    ));
+    Ok(())
+}
+
+/// The points an earlier run of this shard left in `output`, if it exists,
+/// with its time added to `file`; a file of something else is refused.
+fn resumed(output: &Path, file: &mut ShardFile) -> Result<BTreeMap<usize, PointRecord>, Failure> {
+    let mut done = BTreeMap::new();
+    if !output.exists() {
+        return Ok(done);
+    }
+    let old = read_shard(output).map_err(|_| {
+        Failure::input_msg(format!(
+            "{}: exists and is not a shard file; remove it or choose another -o",
+            output.display()
+        ))
+    })?;
+    if (old.hash.as_str(), old.shard, old.of) != (file.hash.as_str(), file.shard, file.of) {
+        return Err(Failure::input_msg(format!(
+            "{}: holds shard {}/{} of another run (hash {}, this run's {}); remove it or choose another -o",
+            output.display(),
+            old.shard,
+            old.of,
+            old.hash,
+            file.hash
+        )));
+    }
+    file.seconds = old.seconds;
+    done.extend(old.points.into_iter().map(|p| (p.index, p)));
+    Ok(done)
+}
+
+/// Evaluates the points of `mine` not yet `done`, in chunks, writing a
+/// checkpoint through `checkpoints` (when given) every
+/// [`CHECKPOINT_SECONDS`]; at the end `file` holds every point and the
+/// shard's total time.
+fn evaluate(
+    problem: &OutputError<'_>,
+    plan: &Plan,
+    mine: &[usize],
+    done: &mut BTreeMap<usize, PointRecord>,
+    file: &mut ShardFile,
+    checkpoints: Option<&Checked>,
+) -> Result<(), Failure> {
+    let todo: Vec<usize> = mine
+        .iter()
+        .copied()
+        .filter(|i| !done.contains_key(i))
+        .collect();
+    let chunk = (4 * rayon::current_num_threads()).max(1);
+    let mut since = Instant::now();
+    let started = Instant::now();
+    let base_seconds = file.seconds;
+    for (c, indices) in todo.chunks(chunk).enumerate() {
+        let outcomes =
+            evaluate_points(problem, plan, indices, &Silent).map_err(identify_failure)?;
+        for (&index, o) in indices.iter().zip(outcomes) {
+            let record = PointRecord {
+                index,
+                cost: o.as_ref().ok().copied(),
+                failure: o.err(),
+            };
+            done.insert(index, record);
+        }
+        let last = (c + 1) * chunk >= todo.len();
+        if let Some(outputs) = checkpoints.filter(|_| !last) {
+            if since.elapsed().as_secs_f64() >= CHECKPOINT_SECONDS {
+                file.points = done.values().cloned().collect();
+                file.seconds = base_seconds + started.elapsed().as_secs_f64();
+                write(outputs, file)?;
+                since = Instant::now();
+            }
+        }
+    }
+    file.points = std::mem::take(done).into_values().collect();
+    file.seconds = base_seconds + started.elapsed().as_secs_f64();
+    Ok(())
+}

@@ -1,0 +1,45 @@
+//! Library errors as the CLI's failures: bad input (exit 2) or a failed
+//! computation (exit 1).
+use crate::diagnostics::Failure;
+use rfeid::identification::pipeline::IdentifyError;
+use rfeid::measurement::NoiseError;
+use rfeid::model::Model;
+use rfeid::simulation::SimulationError;
+
+/// A failed simulation at user-chosen values: parameter values the model
+/// cannot take (from `--set`) are bad input (exit 2); a run that diverges is
+/// a failed computation (exit 1).
+pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
+    match e {
+        SimulationError::BadParameter { .. }
+        | SimulationError::NonPositiveInertia { .. }
+        | SimulationError::BadExponent { .. } => Failure::input_msg(format!("{what}: {e}")),
+        _ => Failure::failed(format!("{what}: {e}")),
+    }
+}
+
+/// An identification error as a failure: problems of the settings or the
+/// model are bad input (2), the rest failed computations (1).
+pub fn identify_failure(e: IdentifyError) -> Failure {
+    match e {
+        IdentifyError::NoParameters
+        | IdentifyError::Plan(_)
+        | IdentifyError::NoStarts
+        | IdentifyError::TooFewObservations { .. } => Failure::input_msg(e),
+        _ => Failure::failed(e),
+    }
+}
+
+/// A noise error with the sensor named.
+pub fn noise_sensor(model: &Model, e: NoiseError) -> String {
+    let sensor = match &e {
+        NoiseError::Overflow { sensor, .. } | NoiseError::BelowRounding { sensor, .. } => {
+            model.sensors.get(*sensor).map(|s| s.name.as_str())
+        }
+        NoiseError::BadFraction { .. } => None,
+    };
+    match sensor {
+        Some(name) => format!("{e} ('{name}')"),
+        None => e.to_string(),
+    }
+}

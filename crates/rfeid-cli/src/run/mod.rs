@@ -1,0 +1,27 @@
+//! The layer the commands are thin over: an identification run in stages,
+//! with values passed between them. Each file holds one concern:
+//!
+//! - inputs: [`inputs`] (a model and its data, `--set`, `--tolerance` /
+//!   `--substeps`), [`experiments`] (a campaign's data), [`demo_case`] (the
+//!   built-in benchmark), [`shard_arg`] and [`shard_file`] (shards of a
+//!   plan);
+//! - search set-up: [`limits`], [`search`], [`progress`];
+//! - computing beside the search: [`estimate`] (a model at the estimate);
+//! - failures: [`failures`] (library errors as exit statuses);
+//! - results: [`show`] and [`verdict_text`] (the tables and notes),
+//!   [`report`] (report files), [`closing`] (the closing sequence of
+//!   `identify`, `demo` and `merge`).
+pub mod closing;
+pub mod demo_case;
+pub mod estimate;
+pub mod experiments;
+pub mod failures;
+pub mod inputs;
+pub mod limits;
+pub mod progress;
+pub mod report;
+pub mod search;
+pub mod shard_arg;
+pub mod shard_file;
+pub mod show;
+pub mod verdict_text;

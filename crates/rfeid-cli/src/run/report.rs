@@ -1,0 +1,110 @@
+//! Report files of a run (`--report`, `rfeid report`), and reading a
+//! RESULT.json back.
+use super::estimate::simulate_at_estimate;
+use crate::diagnostics::Failure;
+use rfeid::identification::result::IdentificationResult;
+use rfeid::model::Model;
+use rfeid::report::{report_files, ReportInput};
+use rfeid::simulation::{Response, Simulator, Workspace};
+use std::path::Path;
+
+/// A report's files: (name, text).
+pub type ReportFiles = Vec<(String, String)>;
+
+/// Reads a RESULT.json; an unreadable or foreign file is bad input naming it.
+pub fn read_result(path: &Path) -> Result<IdentificationResult, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Failure::input_msg(format!("{}: not an rfeid result: {e}", path.display())))
+}
+
+/// The report of a campaign: the fitted experiments' sensors side by side
+/// (`sensor[experiment]`, as in the result), each simulated at the estimate,
+/// on the shortest of their records; the experiments' fits in the summary.
+pub fn render_campaign(
+    model: &Model,
+    models: &[Model],
+    result: &IdentificationResult,
+    measured: &[Response],
+    title: &str,
+) -> Result<ReportFiles, Failure> {
+    let fitted_idx = model.fitted_experiments();
+    let n = fitted_idx
+        .iter()
+        .map(|&e| measured[e].n_samples)
+        .min()
+        .unwrap_or(0);
+    let (mut y, mut g) = (Vec::new(), Vec::new());
+    let mut sensors = 0;
+    for &e in &fitted_idx {
+        let name = &model.experiments[e].name;
+        let (sim, _) = simulate_at_estimate(result, &models[e], name)?;
+        for c in 0..measured[e].n_sensors {
+            y.extend_from_slice(&measured[e].sensor(c)[..n]);
+            g.extend_from_slice(&sim.sensor(c)[..n]);
+            sensors += 1;
+        }
+    }
+    let stack = |values| Response {
+        n_samples: n,
+        n_sensors: sensors,
+        values,
+    };
+    let (measured, fitted) = (stack(y), stack(g));
+    let first = fitted_idx.first().map_or(0, |&e| e);
+    let time: Vec<f64> = (0..n).map(|k| models[first].sampling.time(k)).collect();
+    let input = ReportInput {
+        title: title.to_string(),
+        model,
+        result,
+        time: &time,
+        measured: &measured,
+        fitted: &fitted,
+        reference: None,
+    };
+    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
+}
+
+/// Simulates at the estimate and renders the report's files (name, text).
+pub fn render(
+    model: &Model,
+    result: &IdentificationResult,
+    measured: &Response,
+    reference: Option<&[f64]>,
+    title: &str,
+) -> Result<ReportFiles, Failure> {
+    let mut params = model.nominal();
+    for p in &result.parameters {
+        let i = model.parameter_index(&p.name).ok_or_else(|| {
+            Failure::input_msg(format!(
+                "the result's parameter '{}' is not in the model",
+                p.name
+            ))
+        })?;
+        params[i] = p.estimate;
+    }
+    // The steps the identification ended with, as recorded.
+    let sim = match &result.simulation {
+        Some(steps) => {
+            Simulator::with_integrator(model, rfeid::simulation::steps::integrator(steps.substeps))
+        }
+        None => Simulator::new(model),
+    };
+    let mut fitted = sim.response_buffer();
+    sim.run(&params, &mut Workspace::default(), &mut fitted)
+        .map_err(|e| Failure::failed(format!("simulating at the estimate failed: {e}")))?;
+    let time: Vec<f64> = (0..fitted.n_samples)
+        .map(|k| model.sampling.time(k))
+        .collect();
+    let input = ReportInput {
+        title: title.to_string(),
+        model,
+        result,
+        time: &time,
+        measured,
+        fitted: &fitted,
+        reference,
+    };
+    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
+}

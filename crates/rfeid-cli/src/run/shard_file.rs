@@ -1,0 +1,201 @@
+//! A shard file: one share of a run's LP_τ plan, written by
+//! `identify --shard K/N` and read by `rfeid merge`.
+//!
+//! Shard K of N evaluates the plan points whose index i (0-based) has
+//! `i mod N = K`, so any N works and the shares differ by at most one point.
+//! The shard file records the run's hash (model file, its signal tables,
+//! the data file and the search settings, FNV-1a 64 over their bytes: a
+//! check that the shards belong together, not a protection against
+//! tampering), the shard's number, the search settings, the model and data
+//! paths, and J (or the failure) at every finished point.
+use super::search::DEFAULT_WEIGHTS;
+use crate::cli::{MethodArg, SearchArgs, StepArgs, WeightsArg};
+use crate::diagnostics::Failure;
+use crate::outputs::Checked;
+use clap::ValueEnum;
+use rfeid::model::Model;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format tag of a shard file.
+pub const FORMAT: &str = "rfeid-shard-1";
+
+/// The search settings a shard was computed with (all that changes J or
+/// the local searches; not the thread count).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SearchSpec {
+    /// `--plan`.
+    pub plan: usize,
+    /// `--starts`.
+    pub starts: usize,
+    /// `--method`.
+    pub method: String,
+    /// `--weights`.
+    pub weights: String,
+    /// `--from`, s.
+    pub from: f64,
+    /// `--tolerance`.
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// `--substeps`.
+    #[serde(default)]
+    pub substeps: Option<usize>,
+    /// `--window`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub window: Option<f64>,
+}
+
+impl SearchSpec {
+    /// The settings of `a`.
+    pub fn of(a: &SearchArgs) -> Self {
+        let name = |v: Option<clap::builder::PossibleValue>| {
+            v.map(|v| v.get_name().to_string()).unwrap_or_default()
+        };
+        SearchSpec {
+            plan: a.plan,
+            starts: a.starts,
+            method: name(a.method.to_possible_value()),
+            weights: name(a.weights.unwrap_or(DEFAULT_WEIGHTS).to_possible_value()),
+            from: a.from,
+            tolerance: a.steps.tolerance,
+            substeps: a.steps.substeps,
+            window: a.window,
+        }
+    }
+
+    /// Search arguments with these settings and `threads`.
+    pub fn to_args(&self, threads: Option<usize>, timings: bool) -> Result<SearchArgs, String> {
+        Ok(SearchArgs {
+            plan: self.plan,
+            starts: self.starts,
+            method: MethodArg::from_str(&self.method, false)?,
+            weights: Some(WeightsArg::from_str(&self.weights, false)?),
+            threads,
+            from: self.from,
+            timings,
+            steps: StepArgs {
+                tolerance: self.tolerance,
+                substeps: self.substeps,
+            },
+            window: self.window,
+        })
+    }
+}
+
+/// J at one plan point, or why it failed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PointRecord {
+    /// Plan index (0-based).
+    pub index: usize,
+    /// J, if the point could be evaluated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost: Option<f64>,
+    /// Why it could not, otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
+}
+
+/// A shard file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ShardFile {
+    /// [`FORMAT`].
+    pub format: String,
+    /// FNV-1a 64 of the model, its tables, the data and the settings.
+    pub hash: String,
+    /// K.
+    pub shard: usize,
+    /// N.
+    pub of: usize,
+    /// The search settings.
+    pub search: SearchSpec,
+    /// The model file, as given.
+    pub model: String,
+    /// The data file, as given.
+    pub data: String,
+    /// Wall time spent on this shard's points, s (all runs of it).
+    pub seconds: f64,
+    /// `true` when every point of the shard is done.
+    pub complete: bool,
+    /// The finished points, by index.
+    pub points: Vec<PointRecord>,
+}
+
+/// FNV-1a 64 of `parts`, each preceded by its length.
+fn fnv1a(parts: &[&[u8]]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for b in (part.len() as u64).to_le_bytes().iter().chain(part.iter()) {
+            h ^= *b as u64;
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    format!("{h:016x}")
+}
+
+/// The hash of a run: the model file, its signal tables, the data file and
+/// the search settings.
+pub fn run_hash(
+    model_path: &Path,
+    model: &Model,
+    data: &Path,
+    spec: &SearchSpec,
+) -> Result<String, Failure> {
+    let read = |p: &Path| {
+        std::fs::read(p).map_err(|e| Failure::input_msg(format!("{}: {e}", p.display())))
+    };
+    let mut files = vec![read(model_path)?];
+    for f in &model.files {
+        files.push(read(f)?);
+    }
+    files.push(read(data)?);
+    files.push(
+        serde_json::to_vec(spec)
+            .map_err(|e| Failure::failed(format!("the settings as JSON: {e}")))?,
+    );
+    files.insert(0, FORMAT.as_bytes().to_vec());
+    let parts: Vec<&[u8]> = files.iter().map(Vec::as_slice).collect();
+    Ok(fnv1a(&parts))
+}
+
+/// Reads a shard file.
+pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    let shard: ShardFile = serde_json::from_str(&text).map_err(|e| {
+        Failure::input_msg(format!("{}: not an rfeid shard file: {e}", path.display()))
+    })?;
+    if shard.format != FORMAT {
+        return Err(Failure::input_msg(format!(
+            "{}: format '{}', expected '{FORMAT}'",
+            path.display(),
+            shard.format
+        )));
+    }
+    Ok(shard)
+}
+
+/// The plan indices of shard `k` of `n` in a plan of `points`.
+pub fn share(k: usize, n: usize, points: usize) -> Vec<usize> {
+    (k..points).step_by(n).collect()
+}
+
+/// Writes the shard file (`-o`) through the run's checked outputs.
+pub fn write(outputs: &Checked, file: &ShardFile) -> Result<(), Failure> {
+    let mut text = serde_json::to_vec_pretty(file)
+        .map_err(|e| Failure::failed(format!("the shard as JSON: {e}")))?;
+    text.push(b'\n');
+    let mut batch = outputs.batch();
+    batch.file("-o", text)?;
+    batch.commit()
+}
+
+/// Resolves a path recorded in a shard file: as given if it exists (or is
+/// absolute), else relative to the shard file's directory.
+pub fn resolve(recorded: &str, shard_path: &Path) -> PathBuf {
+    let p = PathBuf::from(recorded);
+    if p.exists() || p.is_absolute() {
+        p
+    } else {
+        shard_path.parent().unwrap_or(Path::new("")).join(p)
+    }
+}

@@ -1,0 +1,219 @@
+//! The results shown after a search: the paper-style tables (Tables 1–2)
+//! and the notes, or the result as JSON with `--json`.
+use super::verdict_text::write_verdict;
+use crate::diagnostics::Failure;
+use crate::format::{sig, table};
+use crate::outputs::Checked;
+use crate::ui::Ui;
+use rfeid::identification::result::IdentificationResult;
+use rfeid::model::{Model, Role};
+use rfeid::simulation::StepChoice;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The tables, or the result as JSON with `--json`. When an output file
+/// went to standard output, the tables go to standard error (unless
+/// `--quiet`).
+pub fn show_result(
+    model: &Model,
+    r: &IdentificationResult,
+    reference: &str,
+    timings: bool,
+    stdout_taken: bool,
+    ui: &Ui,
+) -> Result<(), Failure> {
+    if ui.json {
+        ui.print_json(r)
+    } else {
+        let text = format_result(model, r, reference, timings);
+        if !stdout_taken {
+            print!("{text}");
+        } else if !ui.quiet {
+            eprint!("{text}");
+        }
+        Ok(())
+    }
+}
+
+/// Refuses `--json` when an output file goes to standard output.
+pub fn json_conflict(ui: &Ui, outputs: &Checked) -> Result<(), Failure> {
+    if ui.json && outputs.uses_stdout() {
+        return Err(Failure::input_msg(
+            "--json: standard output already carries an output file (-); drop one of them",
+        ));
+    }
+    Ok(())
+}
+
+/// The integrator's steps in words, with their estimated error.
+pub fn steps_note(steps: &StepChoice) -> String {
+    format!(
+        "integrator: {} step(s) per sample ({}), estimated relative error {}",
+        steps.substeps,
+        if steps.automatic {
+            format!("chosen for tolerance {:.0e}", steps.tolerance)
+        } else {
+            "fixed".to_string()
+        },
+        steps
+            .estimated_error
+            .map(|e| format!("{e:.1e}"))
+            .unwrap_or_else(|| "not estimated".into())
+    )
+}
+
+/// Notes where a run's report was written, if it wrote one.
+pub fn report_note(dir: Option<&Path>, ui: &Ui) {
+    if let Some(dir) = dir {
+        ui.note(format!(
+            "report written to {}",
+            dir.join("report.html").display()
+        ));
+    }
+}
+
+/// The paper-style tables (Tables 1–2) and diagnostics.
+pub fn format_result(
+    model: &Model,
+    r: &IdentificationResult,
+    reference: &str,
+    timings: bool,
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out);
+    out.push_str(&parameter_table(model, r, reference));
+    let _ = writeln!(out);
+    write_search(&mut out, r);
+    write_experiments(&mut out, r);
+    write_verdict(&mut out, r);
+    if timings {
+        let t = &r.timings;
+        let _ = writeln!(
+        out,
+            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s, total {:.3} s ({} threads)",
+            t.plan, t.local_search, t.uncertainty, t.total, r.threads
+        );
+    }
+    out
+}
+
+/// Table 1–2: each identified parameter's box, reference value, estimate
+/// and standard error.
+fn parameter_table(model: &Model, r: &IdentificationResult, reference: &str) -> String {
+    let rows: Vec<Vec<String>> = r
+        .parameters
+        .iter()
+        .map(|p| {
+            let show = |v: f64| sig(v / p.unit_scale, 5);
+            let unit = if p.unit.is_empty() {
+                model
+                    .parameter_index(&p.name)
+                    .map(|i| model.parameters[i].dimension.to_string())
+                    .unwrap_or_default()
+            } else {
+                p.unit.clone()
+            };
+            vec![
+                p.name.clone(),
+                unit,
+                show(p.min),
+                show(p.max),
+                p.scale.as_str().into(),
+                show(p.nominal),
+                show(p.estimate),
+                format!("{:+.3}", 100.0 * (p.estimate - p.nominal) / p.nominal),
+                p.std_error
+                    .map(|s| sig(s / p.unit_scale, 4))
+                    .unwrap_or_else(|| "-".into()),
+            ]
+        })
+        .collect();
+    let diff = format!("vs {reference} %");
+    let header = [
+        "parameter",
+        "unit",
+        "min",
+        "max",
+        "scale",
+        reference,
+        "identified",
+        &diff,
+        "std. error",
+    ];
+    table(&header, &rows)
+}
+
+/// The criterion, the search's course and its warnings.
+fn write_search(out: &mut String, r: &IdentificationResult) {
+    let _ = writeln!(
+        out,
+        "criterion J = {:.6e}   s² = {}   N = {}",
+        r.criterion,
+        r.s2.map(|v| format!("{v:.4e}")).unwrap_or("-".into()),
+        r.observations
+    );
+    let _ = writeln!(
+        out,
+        "{} after {} iteration{} ({})",
+        r.termination_message,
+        r.iterations,
+        if r.iterations == 1 { "" } else { "s" },
+        r.method
+    );
+    let _ = writeln!(
+        out,
+        "plan: {} points, {} failed; simulations: {} (+{} with sensitivities), {} failed",
+        r.plan.points,
+        r.plan.failed,
+        r.simulations,
+        r.simulations_with_sensitivities,
+        r.failed_simulations
+    );
+    if let Some(steps) = &r.simulation {
+        let _ = writeln!(out, "{} (at the estimate)", steps_note(steps));
+    }
+    for f in &r.failed_starts {
+        let _ = writeln!(
+            out,
+            "warning: the local search from plan point {} failed and was skipped: {}",
+            f.plan_index + 1,
+            f.reason
+        );
+    }
+    if let Some(c) = r.condition_number {
+        let _ = writeln!(out, "condition number of the scaled Fisher matrix: {c:.3e}");
+    }
+    if let Some(e) = &r.uncertainty_error {
+        let _ = writeln!(out, "warning: no standard errors: {e}");
+    }
+    for w in &r.warnings {
+        let _ = writeln!(out, "warning: {w}");
+    }
+}
+
+/// One line per experiment of a campaign, with its fit per sensor.
+fn write_experiments(out: &mut String, r: &IdentificationResult) {
+    for e in &r.experiments {
+        let fits: Vec<String> = e
+            .sensors
+            .iter()
+            .zip(&e.fits)
+            .map(|(s, f)| match f {
+                Some(f) => format!("{s} {f:.2} %"),
+                None => format!("{s} -"),
+            })
+            .collect();
+        let role = match e.role {
+            Role::Fit => "fitted",
+            Role::Validation => "validation, not fitted",
+        };
+        let _ = writeln!(
+            out,
+            "experiment {} ({role}, {} samples from t = {} s): {}",
+            e.name,
+            e.samples,
+            e.from,
+            fits.join(", ")
+        );
+    }
+}
