@@ -9,6 +9,8 @@ mod experiments;
 mod parameters;
 mod sensors;
 mod signal;
+mod simulation;
+mod table;
 
 use crate::io::model_file::raw::*;
 use crate::model::*;
@@ -20,7 +22,7 @@ use excitations::excitations;
 use nalgebra::Vector3;
 use parameters::{finish_parameters, read_parameters};
 use sensors::sensors;
-use signal::sampling;
+use simulation::sampling;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
