@@ -129,18 +129,36 @@ pub fn detect_separator(header: &str) -> u8 {
 /// anywhere, the other columns in any order. Every value must be a finite
 /// number with a decimal point, and time must increase strictly.
 pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
-    let io_err = |source| DataError::Io {
+    let text = std::fs::read(path).map_err(|source| DataError::Io {
         path: path.into(),
         source,
-    };
-    let text = std::fs::read(path).map_err(io_err)?;
+    })?;
     let header = text.split(|&b| b == b'\n').next().unwrap_or_default();
     let separator = detect_separator(&String::from_utf8_lossy(header));
     let mut rdr = csv::ReaderBuilder::new()
         .delimiter(separator)
         .trim(csv::Trim::All)
         .from_reader(text.as_slice());
-    let csv_err = |e: csv::Error| DataError::Csv {
+    let headers = rdr.headers().map_err(|e| csv_error(path, e))?.clone();
+    let (time_col, names) = column_names(path, &headers)?;
+    let mut ts = TimeSeries {
+        time: Vec::new(),
+        columns: vec![Vec::new(); names.len()],
+        names,
+    };
+    for rec in rdr.records() {
+        let rec = rec.map_err(|e| csv_error(path, e))?;
+        push_record(path, &mut ts, &rec, &headers, time_col)?;
+    }
+    if ts.time.is_empty() {
+        return Err(DataError::Empty { path: path.into() });
+    }
+    Ok(ts)
+}
+
+/// A CSV reader's error as a [`DataError::Csv`] with its line.
+fn csv_error(path: &Path, e: csv::Error) -> DataError {
+    DataError::Csv {
         path: path.into(),
         line: e.position().map(|p| p.line()).unwrap_or(0),
         message: match e.kind() {
@@ -151,8 +169,14 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
             }
             _ => e.to_string(),
         },
-    };
-    let headers = rdr.headers().map_err(csv_err)?.clone();
+    }
+}
+
+/// The `time` column's index and the other columns' names, which must be distinct.
+fn column_names(
+    path: &Path,
+    headers: &csv::StringRecord,
+) -> Result<(usize, Vec<String>), DataError> {
     let Some(time_col) = headers.iter().position(|h| h == "time") else {
         return Err(DataError::NoTime {
             path: path.into(),
@@ -173,55 +197,55 @@ pub fn read_csv(path: &Path) -> Result<TimeSeries, DataError> {
             });
         }
     }
-    let mut ts = TimeSeries {
-        time: Vec::new(),
-        columns: vec![Vec::new(); names.len()],
-        names,
-    };
-    for rec in rdr.records() {
-        let rec = rec.map_err(csv_err)?;
-        let line = rec.position().map(|p| p.line()).unwrap_or(0);
-        for (j, field) in rec.iter().enumerate() {
-            let column = || headers.get(j).unwrap_or("").to_string();
-            let v: f64 = match field.parse().ok().filter(|v: &f64| v.is_finite()) {
-                Some(v) => v,
-                None if decimal_comma(field) => {
-                    return Err(DataError::DecimalComma {
+    Ok((time_col, names))
+}
+
+/// Appends one data row to `ts`; its time must exceed the previous row's.
+fn push_record(
+    path: &Path,
+    ts: &mut TimeSeries,
+    rec: &csv::StringRecord,
+    headers: &csv::StringRecord,
+    time_col: usize,
+) -> Result<(), DataError> {
+    let line = rec.position().map(|p| p.line()).unwrap_or(0);
+    for (j, field) in rec.iter().enumerate() {
+        let v = parse_value(path, line, headers.get(j).unwrap_or(""), field)?;
+        if j == time_col {
+            if let Some(&last) = ts.time.last() {
+                if v <= last {
+                    return Err(DataError::TimeNotIncreasing {
                         path: path.into(),
                         line,
-                        column: column(),
-                        text: field.to_string(),
-                    })
+                        time: v,
+                    });
                 }
-                None => {
-                    return Err(DataError::BadValue {
-                        path: path.into(),
-                        line,
-                        column: column(),
-                        text: field.to_string(),
-                    })
-                }
-            };
-            if j == time_col {
-                if let Some(&last) = ts.time.last() {
-                    if v <= last {
-                        return Err(DataError::TimeNotIncreasing {
-                            path: path.into(),
-                            line,
-                            time: v,
-                        });
-                    }
-                }
-                ts.time.push(v);
-            } else {
-                ts.columns[j - usize::from(j > time_col)].push(v);
             }
+            ts.time.push(v);
+        } else {
+            ts.columns[j - usize::from(j > time_col)].push(v);
         }
     }
-    if ts.time.is_empty() {
-        return Err(DataError::Empty { path: path.into() });
+    Ok(())
+}
+
+/// One field as a finite number; a decimal comma gets its own error.
+fn parse_value(path: &Path, line: u64, column: &str, field: &str) -> Result<f64, DataError> {
+    match field.parse().ok().filter(|v: &f64| v.is_finite()) {
+        Some(v) => Ok(v),
+        None if decimal_comma(field) => Err(DataError::DecimalComma {
+            path: path.into(),
+            line,
+            column: column.to_string(),
+            text: field.to_string(),
+        }),
+        None => Err(DataError::BadValue {
+            path: path.into(),
+            line,
+            column: column.to_string(),
+            text: field.to_string(),
+        }),
     }
-    Ok(ts)
 }
 
 /// Whether `field` is a finite number written with a decimal comma

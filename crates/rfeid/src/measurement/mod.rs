@@ -1,7 +1,7 @@
 //! Measured signals: matching a data file to the model's sensors and
 //! sampling (eq. 10, 15), and adding seeded measurement noise.
 use crate::io::timeseries::TimeSeries;
-use crate::model::Model;
+use crate::model::{Model, Sampling};
 use crate::simulation::Response;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -104,32 +104,11 @@ pub struct Matched {
 pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Matched, MeasurementError> {
     let sensors: Vec<&str> = model.sensors.iter().map(|s| s.name.as_str()).collect();
     let mut notes = Vec::new();
-    let extra: Vec<String> = data
-        .names
-        .iter()
-        .filter(|c| !sensors.contains(&c.as_str()))
-        .map(|c| format!("'{c}'"))
-        .collect();
-    if !extra.is_empty() {
-        notes.push(format!(
-            "columns that are not sensors, ignored: {}",
-            extra.join(", ")
-        ));
-    }
+    notes.extend(extra_columns_note(&sensors, data));
     let s = model.sampling;
     let n = s.n_samples();
     let m = data.time.len();
-    let dt = 1.0 / s.sample_rate;
-    let start = data.time.first().copied().unwrap_or(0.0);
-    if m >= 2 {
-        let step = (data.time[m - 1] - start) / (m - 1) as f64;
-        if !((step - dt).abs() <= GRID_TOLERANCE * dt) {
-            return Err(MeasurementError::RateMismatch {
-                data_rate: 1.0 / step,
-                rate: s.sample_rate,
-            });
-        }
-    }
+    check_rate(data, &s)?;
     if m < n {
         return Err(MeasurementError::TooShort {
             found: m,
@@ -138,10 +117,69 @@ pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Matched, Measureme
             rate: s.sample_rate,
         });
     }
+    if let Some(start) = check_grid(data, &s)? {
+        notes.push(format!(
+            "the record starts at t = {start} s; it is taken as starting at the model's t = 0"
+        ));
+    }
+    if m > n {
+        notes.push(format!(
+            "the record has {m} samples ({} s); the model uses the first {n} ({} s at {} Hz), \
+             the other {} are ignored",
+            short(m as f64 * (1.0 / s.sample_rate)),
+            s.duration,
+            s.sample_rate,
+            m - n
+        ));
+    }
+    Ok(Matched {
+        response: sensor_columns(&sensors, data, n)?,
+        notes,
+    })
+}
+
+/// A note naming the columns that are not sensors, if there are any.
+fn extra_columns_note(sensors: &[&str], data: &TimeSeries) -> Option<String> {
+    let extra: Vec<String> = data
+        .names
+        .iter()
+        .filter(|c| !sensors.contains(&c.as_str()))
+        .map(|c| format!("'{c}'"))
+        .collect();
+    (!extra.is_empty()).then(|| {
+        format!(
+            "columns that are not sensors, ignored: {}",
+            extra.join(", ")
+        )
+    })
+}
+
+/// The record's mean sample interval (first to last stamp) must be the model's.
+fn check_rate(data: &TimeSeries, s: &Sampling) -> Result<(), MeasurementError> {
+    let m = data.time.len();
+    if m >= 2 {
+        let dt = 1.0 / s.sample_rate;
+        let start = data.time[0];
+        let step = (data.time[m - 1] - start) / (m - 1) as f64;
+        if !((step - dt).abs() <= GRID_TOLERANCE * dt) {
+            return Err(MeasurementError::RateMismatch {
+                data_rate: 1.0 / step,
+                rate: s.sample_rate,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Every used time stamp lies on the model's grid from the record's start;
+/// the start, when the record is taken as shifted to t = 0.
+fn check_grid(data: &TimeSeries, s: &Sampling) -> Result<Option<f64>, MeasurementError> {
+    let dt = 1.0 / s.sample_rate;
+    let start = data.time.first().copied().unwrap_or(0.0);
     let slack = |t: f64| GRID_TOLERANCE * dt + F32_ROUNDING * (t.abs() + start.abs());
     let shifted = start.abs() > slack(start);
     let origin = if shifted { start } else { 0.0 };
-    for (k, &t) in data.time.iter().take(n).enumerate() {
+    for (k, &t) in data.time.iter().take(s.n_samples()).enumerate() {
         let expected = s.time(k);
         let tolerance = slack(t);
         if !((t - origin - expected).abs() <= tolerance) {
@@ -155,21 +193,15 @@ pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Matched, Measureme
             });
         }
     }
-    if shifted {
-        notes.push(format!(
-            "the record starts at t = {start} s; it is taken as starting at the model's t = 0"
-        ));
-    }
-    if m > n {
-        notes.push(format!(
-            "the record has {m} samples ({} s); the model uses the first {n} ({} s at {} Hz), \
-             the other {} are ignored",
-            short(m as f64 * dt),
-            s.duration,
-            s.sample_rate,
-            m - n
-        ));
-    }
+    Ok(shifted.then_some(start))
+}
+
+/// The first `n` samples of each sensor's column, in sensor order.
+fn sensor_columns(
+    sensors: &[&str],
+    data: &TimeSeries,
+    n: usize,
+) -> Result<Response, MeasurementError> {
     let mut out = Response::zeros(sensors.len(), n);
     for (c, name) in sensors.iter().enumerate() {
         let col = data
@@ -180,10 +212,7 @@ pub fn match_data(model: &Model, data: &TimeSeries) -> Result<Matched, Measureme
             })?;
         out.values[c * n..(c + 1) * n].copy_from_slice(&col[..n]);
     }
-    Ok(Matched {
-        response: out,
-        notes,
-    })
+    Ok(out)
 }
 
 /// The response as a time series with the sensors' names.

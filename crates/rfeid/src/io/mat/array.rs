@@ -153,6 +153,32 @@ pub fn parse_matrix(buf: &Buf<'_>, el: &Element<'_>) -> Result<Option<MatVariabl
     }
     let end = el.data_end;
     let flags = buf.element(el.data_start, end, "array flags")?;
+    let (class, complex, logical) = array_flags(buf, &flags)?;
+    let mut next = flags.next;
+    let mut dims = Vec::new();
+    if class != MatClass::Opaque {
+        let d = buf.element(next, end, "array dimensions")?;
+        dims = dimensions(buf, &d)?;
+        next = d.next;
+    }
+    let n = buf.element(next, end, "array name")?;
+    let name = array_name(buf, &n)?;
+    let mut var = MatVariable {
+        name,
+        class,
+        dims,
+        complex,
+        logical,
+        values: Vec::new(),
+    };
+    if class.is_numeric() {
+        var.values = numeric_data(buf, el, &var, n.next)?;
+    }
+    Ok(Some(var))
+}
+
+/// The array flags sub-element: the class, and whether complex and logical.
+fn array_flags(buf: &Buf<'_>, flags: &Element<'_>) -> Result<(MatClass, bool, bool), MatError> {
     if flags.kind != MI_UINT32 || flags.data.len() != 8 {
         return Err(buf.malformed(
             flags.offset,
@@ -169,16 +195,11 @@ pub fn parse_matrix(buf: &Buf<'_>, el: &Element<'_>) -> Result<Option<MatVariabl
     let code = word & 0xff;
     let class = MatClass::from_code(code)
         .ok_or_else(|| buf.malformed(flags.offset, format!("unknown array class {code}")))?;
-    let complex = word & 0x0800 != 0;
-    let logical = word & 0x0200 != 0;
-    let mut next = flags.next;
-    let mut dims = Vec::new();
-    if class != MatClass::Opaque {
-        let d = buf.element(next, end, "array dimensions")?;
-        dims = dimensions(buf, &d)?;
-        next = d.next;
-    }
-    let n = buf.element(next, end, "array name")?;
+    Ok((class, word & 0x0800 != 0, word & 0x0200 != 0))
+}
+
+/// The array name sub-element: `miINT8` (or `miUINT8`, `miUTF8`) text.
+fn array_name(buf: &Buf<'_>, n: &Element<'_>) -> Result<String, MatError> {
     if ![MI_INT8, MI_UINT8, MI_UTF8].contains(&n.kind) {
         return Err(buf.malformed(
             n.offset,
@@ -188,18 +209,17 @@ pub fn parse_matrix(buf: &Buf<'_>, el: &Element<'_>) -> Result<Option<MatVariabl
             ),
         ));
     }
-    let name = String::from_utf8_lossy(n.data).into_owned();
-    let mut var = MatVariable {
-        name,
-        class,
-        dims,
-        complex,
-        logical,
-        values: Vec::new(),
-    };
-    if !class.is_numeric() {
-        return Ok(Some(var));
-    }
+    Ok(String::from_utf8_lossy(n.data).into_owned())
+}
+
+/// A numeric array's real part (from `pos`), checked against its dimensions;
+/// a complex array's imaginary part is checked too, then dropped.
+fn numeric_data(
+    buf: &Buf<'_>,
+    el: &Element<'_>,
+    var: &MatVariable,
+    pos: usize,
+) -> Result<Vec<f64>, MatError> {
     let count = var
         .dims
         .iter()
@@ -214,29 +234,37 @@ pub fn parse_matrix(buf: &Buf<'_>, el: &Element<'_>) -> Result<Option<MatVariabl
                 ),
             )
         })?;
-    let part = |pos: usize, which: &str| -> Result<(Element<'_>, Vec<f64>), MatError> {
-        let what = format!("{which} part of variable '{}'", var.name);
-        let p = buf.element(pos, end, &what)?;
-        let v = buf.numbers(&p, &var.name)?;
-        if v.len() != count {
-            return Err(buf.malformed(
-                p.offset,
-                format!(
-                    "variable '{}': dimensions {} need {count} values, its {which} part holds {}",
-                    var.name,
-                    var.dims_text(),
-                    v.len()
-                ),
-            ));
-        }
-        Ok((p, v))
-    };
-    let (real, values) = part(n.next, "real")?;
-    if complex {
-        part(real.next, "imaginary")?;
+    let (real, values) = numeric_part(buf, var, pos, el.data_end, count, "real")?;
+    if var.complex {
+        numeric_part(buf, var, real.next, el.data_end, count, "imaginary")?;
     }
-    var.values = values;
-    Ok(Some(var))
+    Ok(values)
+}
+
+/// One part (real or imaginary) of a numeric array: `count` numbers.
+fn numeric_part<'a>(
+    buf: &Buf<'a>,
+    var: &MatVariable,
+    pos: usize,
+    end: usize,
+    count: usize,
+    which: &str,
+) -> Result<(Element<'a>, Vec<f64>), MatError> {
+    let what = format!("{which} part of variable '{}'", var.name);
+    let p = buf.element(pos, end, &what)?;
+    let v = buf.numbers(&p, &var.name)?;
+    if v.len() != count {
+        return Err(buf.malformed(
+            p.offset,
+            format!(
+                "variable '{}': dimensions {} need {count} values, its {which} part holds {}",
+                var.name,
+                var.dims_text(),
+                v.len()
+            ),
+        ));
+    }
+    Ok((p, v))
 }
 
 /// The dimensions sub-element: at least two non-negative `miINT32`.

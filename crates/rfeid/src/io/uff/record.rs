@@ -15,7 +15,7 @@
 //! spacing, (abscissa, ordinate) pairs for uneven spacing, real and
 //! imaginary parts for complex data; in ASCII as `6E13.5` (single),
 //! `4E20.12` (double, even) or `2(E13.5,E20.12)` (double, uneven).
-use super::binary::{self, Layout};
+use super::binary::{self, BinaryHeader, Layout};
 use super::error::Ctx;
 use super::fields::{data_line, fixed, int};
 use super::header::{data_form, dof_identification, DataForm};
@@ -30,46 +30,11 @@ pub fn parse_58(
     ctx: &Ctx<'_>,
 ) -> Result<UffRecord, UffError> {
     let bin = if is_binary {
-        let b = binary::header(head, ctx)?;
-        if b.n_ascii != 11 {
-            return Err(ctx.malformed(
-                head,
-                format!(
-                    "a 58b header announces {} ASCII lines; dataset 58 has 11",
-                    b.n_ascii
-                ),
-            ));
-        }
-        if b.fp_format != 2 {
-            return Err(UffError::Unsupported {
-                path: ctx.path.into(),
-                context: ctx.context,
-                line: head.number,
-                message: format!(
-                    "floating-point format {} (only 2, IEEE 754, is read)",
-                    b.fp_format
-                ),
-            });
-        }
-        Some(b)
+        Some(binary_header(head, ctx)?)
     } else {
         None
     };
-    let mut h: Vec<Line<'_>> = Vec::with_capacity(11);
-    while h.len() < 11 {
-        match cur.next_line() {
-            Some(l) if !l.is_delimiter() => h.push(l),
-            other => {
-                let (line, offset) =
-                    other.map_or((cur.line(), cur.pos()), |l| (l.number, l.offset));
-                return Err(ctx.truncated_at(
-                    line,
-                    offset,
-                    format!("the header ends after {} of its 11 lines", h.len()),
-                ));
-            }
-        }
-    }
+    let h = header_lines(cur, ctx)?;
     let id_lines: [String; 5] = std::array::from_fn(|i| h[i].trimmed());
     let dof = dof_identification(&h[5], ctx)?;
     let form = data_form(&h[6], ctx)?;
@@ -77,37 +42,8 @@ pub fn parse_58(
     let per_point = if form.ordinate.is_complex() { 2 } else { 1 };
     let stride = usize::from(!form.even) + per_point;
     let values = match bin {
-        None => {
-            let widths: &[usize] = match (form.ordinate, form.even) {
-                (OrdinateType::RealSingle | OrdinateType::ComplexSingle, _) => &[13],
-                (_, true) => &[20],
-                (OrdinateType::RealDouble, false) => &[13, 20],
-                (OrdinateType::ComplexDouble, false) => &[13, 20, 20],
-            };
-            let needed = form
-                .n
-                .checked_mul(stride)
-                .ok_or_else(|| ctx.malformed(&h[6], format!("{} points is too many", form.n)))?;
-            ascii_values(cur, needed, widths, ctx)?
-        }
-        Some(b) => {
-            let size = match form.ordinate {
-                OrdinateType::RealSingle | OrdinateType::ComplexSingle => 4,
-                _ => 8,
-            };
-            let base = Layout {
-                n: form.n,
-                size,
-                per_point,
-                x_size: 0,
-            };
-            let start = cur.pos();
-            let (layout, end) =
-                binary::locate(cur.bytes(), start, b.n_bytes, base, !form.even, ctx, &h[10])?;
-            let v = binary::decode(cur.bytes(), start, layout, b.little);
-            cur.jump(end);
-            v
-        }
+        None => ascii_data(cur, &form, stride, ctx, &h[6])?,
+        Some(b) => binary_data(cur, &b, &form, per_point, ctx, &h[10])?,
     };
     let (abscissa, ordinates) = split(&values, &form, stride);
     Ok(UffRecord {
@@ -127,6 +63,108 @@ pub fn parse_58(
         abscissa,
         values: ordinates,
     })
+}
+
+/// A 58b record's binary header: 11 ASCII lines, IEEE 754 numbers.
+fn binary_header(head: &Line<'_>, ctx: &Ctx<'_>) -> Result<BinaryHeader, UffError> {
+    let b = binary::header(head, ctx)?;
+    if b.n_ascii != 11 {
+        return Err(ctx.malformed(
+            head,
+            format!(
+                "a 58b header announces {} ASCII lines; dataset 58 has 11",
+                b.n_ascii
+            ),
+        ));
+    }
+    if b.fp_format != 2 {
+        return Err(UffError::Unsupported {
+            path: ctx.path.into(),
+            context: ctx.context,
+            line: head.number,
+            message: format!(
+                "floating-point format {} (only 2, IEEE 754, is read)",
+                b.fp_format
+            ),
+        });
+    }
+    Ok(b)
+}
+
+/// The record's 11 ASCII header lines.
+fn header_lines<'a>(cur: &mut Cursor<'a>, ctx: &Ctx<'_>) -> Result<Vec<Line<'a>>, UffError> {
+    let mut h: Vec<Line<'_>> = Vec::with_capacity(11);
+    while h.len() < 11 {
+        match cur.next_line() {
+            Some(l) if !l.is_delimiter() => h.push(l),
+            other => {
+                let (line, offset) =
+                    other.map_or((cur.line(), cur.pos()), |l| (l.number, l.offset));
+                return Err(ctx.truncated_at(
+                    line,
+                    offset,
+                    format!("the header ends after {} of its 11 lines", h.len()),
+                ));
+            }
+        }
+    }
+    Ok(h)
+}
+
+/// The values of an ASCII record, in the field widths of its ordinate type
+/// and spacing; `form_line` is the data-form line, for a count that overflows.
+fn ascii_data(
+    cur: &mut Cursor<'_>,
+    form: &DataForm,
+    stride: usize,
+    ctx: &Ctx<'_>,
+    form_line: &Line<'_>,
+) -> Result<Vec<f64>, UffError> {
+    let widths: &[usize] = match (form.ordinate, form.even) {
+        (OrdinateType::RealSingle | OrdinateType::ComplexSingle, _) => &[13],
+        (_, true) => &[20],
+        (OrdinateType::RealDouble, false) => &[13, 20],
+        (OrdinateType::ComplexDouble, false) => &[13, 20, 20],
+    };
+    let needed = form
+        .n
+        .checked_mul(stride)
+        .ok_or_else(|| ctx.malformed(form_line, format!("{} points is too many", form.n)))?;
+    ascii_values(cur, needed, widths, ctx)
+}
+
+/// The values of a binary record, located and decoded; the cursor moves past them.
+fn binary_data(
+    cur: &mut Cursor<'_>,
+    b: &BinaryHeader,
+    form: &DataForm,
+    per_point: usize,
+    ctx: &Ctx<'_>,
+    last_header_line: &Line<'_>,
+) -> Result<Vec<f64>, UffError> {
+    let size = match form.ordinate {
+        OrdinateType::RealSingle | OrdinateType::ComplexSingle => 4,
+        _ => 8,
+    };
+    let base = Layout {
+        n: form.n,
+        size,
+        per_point,
+        x_size: 0,
+    };
+    let start = cur.pos();
+    let (layout, end) = binary::locate(
+        cur.bytes(),
+        start,
+        b.n_bytes,
+        base,
+        !form.even,
+        ctx,
+        last_header_line,
+    )?;
+    let v = binary::decode(cur.bytes(), start, layout, b.little);
+    cur.jump(end);
+    Ok(v)
 }
 
 /// Splits the values in file order into the abscissa and the real

@@ -4,7 +4,17 @@ use crate::io::model_file::raw::*;
 use crate::model::*;
 use crate::units::{parse_quantity, Dimension};
 use std::collections::HashMap;
+use std::path::PathBuf;
 
+/// What the rest of the model file declares, which experiments refer to.
+struct Declared<'a> {
+    parameters: &'a [Parameter],
+    excitations: &'a [Excitation],
+    sensors: &'a [Sensor],
+    sampling: &'a Sampling,
+}
+
+/// Reads every `[[experiment]]`; if there are any, one at least must be fitted.
 pub(super) fn experiments(
     ctx: &Ctx,
     raw: &RawFile,
@@ -13,6 +23,12 @@ pub(super) fn experiments(
     sensors: &[Sensor],
     sampling: &Sampling,
 ) -> Result<Vec<Experiment>> {
+    let declared = Declared {
+        parameters,
+        excitations,
+        sensors,
+        sampling,
+    };
     let mut seen = HashMap::new();
     let mut out = Vec::with_capacity(raw.experiment.len());
     for (i, x) in raw.experiment.iter().enumerate() {
@@ -27,16 +43,7 @@ pub(super) fn experiments(
             ));
         }
         check_unique(ctx, &mut seen, &name, span, "experiment", i)?;
-        out.push(experiment(
-            ctx,
-            x,
-            name,
-            &entry,
-            parameters,
-            excitations,
-            sensors,
-            sampling,
-        )?);
+        out.push(experiment(ctx, x, name, &entry, &declared)?);
     }
     if !out.is_empty() && out.iter().all(|e| e.role == Role::Validation) {
         return Err(ctx.err(
@@ -49,39 +56,106 @@ pub(super) fn experiments(
     Ok(out)
 }
 
-#[allow(clippy::too_many_arguments)]
+/// One `[[experiment]]`: data file, set values, record, excitations, sensors, use, weight.
 fn experiment(
     ctx: &Ctx,
     x: &toml::Spanned<RawExperiment>,
     name: String,
     entry: &str,
-    parameters: &[Parameter],
-    excitations: &[Excitation],
-    sensors: &[Sensor],
-    sampling: &Sampling,
+    declared: &Declared,
 ) -> Result<Experiment> {
     let rx = x.get_ref();
-    let data_raw = required(ctx, &rx.data, x.span(), entry, "data")?;
+    let data = data_path(ctx, x, entry)?;
+    let set = set_values(ctx, rx, entry, declared.parameters)?;
+    let duration = positive(ctx, &rx.duration, Dimension::TIME, entry, "duration")?;
+    let sample_rate = positive(
+        ctx,
+        &rx.sample_rate,
+        Dimension::FREQUENCY,
+        entry,
+        "sample_rate",
+    )?;
+    check_samples(ctx, x, entry, duration, sample_rate, declared.sampling)?;
+    let from = from(
+        ctx,
+        rx,
+        entry,
+        duration.unwrap_or(declared.sampling.duration),
+    )?;
+    let names_e: Vec<&str> = declared
+        .excitations
+        .iter()
+        .map(|e| e.name.as_str())
+        .collect();
+    let excitations = pick(ctx, &rx.excitations, &names_e, entry, "excitations", true)?;
+    let names_s: Vec<&str> = declared.sensors.iter().map(|s| s.name.as_str()).collect();
+    let sensors = pick(ctx, &rx.sensors, &names_s, entry, "sensors", false)?;
+    let role = role(ctx, rx, entry)?;
+    let weight = weight(ctx, rx, entry)?;
+    Ok(Experiment {
+        name,
+        data,
+        set,
+        from,
+        duration,
+        sample_rate,
+        excitations,
+        sensors,
+        role,
+        weight,
+    })
+}
+
+/// The experiment's data file, relative to the model file's folder.
+fn data_path(ctx: &Ctx, x: &toml::Spanned<RawExperiment>, entry: &str) -> Result<PathBuf> {
+    let data_raw = required(ctx, &x.get_ref().data, x.span(), entry, "data")?;
     if data_raw.get_ref().trim().is_empty() {
         return Err(ctx.err(Some(data_raw.span()), entry, "data", "the path is empty"));
     }
-    let data = ctx.dir.join(data_raw.get_ref().trim());
+    Ok(ctx.dir.join(data_raw.get_ref().trim()))
+}
+
+/// The experiment's `set` table, item by item in file order.
+fn set_values(
+    ctx: &Ctx,
+    rx: &RawExperiment,
+    entry: &str,
+    parameters: &[Parameter],
+) -> Result<Vec<(usize, f64)>> {
     let mut set = Vec::new();
     if let Some(table) = &rx.set {
         for (key, v) in table.get_ref() {
             set.push(set_value(ctx, key, v, table.span(), entry, parameters)?);
         }
     }
-    let positive = |v: &Option<SNum>, dim: Dimension, field: &str| -> Result<Option<f64>> {
-        let Some(v) = v else { return Ok(None) };
-        let n = ctx.number(v, dim, entry, field)?;
-        if !(n > 0.0) {
-            return Err(ctx.err(Some(v.span()), entry, field, "must be positive"));
-        }
-        Ok(Some(n))
-    };
-    let duration = positive(&rx.duration, Dimension::TIME, "duration")?;
-    let sample_rate = positive(&rx.sample_rate, Dimension::FREQUENCY, "sample_rate")?;
+    Ok(set)
+}
+
+/// An optional positive number of dimension `dim`.
+fn positive(
+    ctx: &Ctx,
+    v: &Option<SNum>,
+    dim: Dimension,
+    entry: &str,
+    field: &str,
+) -> Result<Option<f64>> {
+    let Some(v) = v else { return Ok(None) };
+    let n = ctx.number(v, dim, entry, field)?;
+    if !(n > 0.0) {
+        return Err(ctx.err(Some(v.span()), entry, field, "must be positive"));
+    }
+    Ok(Some(n))
+}
+
+/// The experiment's record (its own duration and rate, or the simulation's) has 2 to 1e8 samples.
+fn check_samples(
+    ctx: &Ctx,
+    x: &toml::Spanned<RawExperiment>,
+    entry: &str,
+    duration: Option<f64>,
+    sample_rate: Option<f64>,
+    sampling: &Sampling,
+) -> Result<()> {
     let n = (duration.unwrap_or(sampling.duration) * sample_rate.unwrap_or(sampling.sample_rate))
         .round();
     if !(2.0..=1e8).contains(&n) {
@@ -96,63 +170,49 @@ fn experiment(
             format!("duration × sample_rate gives {n} samples; it must be 2 to 1e8"),
         ));
     }
-    let from = match &rx.from {
-        None => 0.0,
-        Some(v) => {
-            let t = ctx.number(v, Dimension::TIME, entry, "from")?;
-            let end = duration.unwrap_or(sampling.duration);
-            if !(t >= 0.0 && t < end) {
-                return Err(ctx.err(
-                    Some(v.span()),
-                    entry,
-                    "from",
-                    format!("must lie in [0, {end}) s, the experiment's record"),
-                ));
-            }
-            t
-        }
+    Ok(())
+}
+
+/// Where the fit starts, in [0, `end`) s; 0 when absent.
+fn from(ctx: &Ctx, rx: &RawExperiment, entry: &str, end: f64) -> Result<f64> {
+    let Some(v) = &rx.from else { return Ok(0.0) };
+    let t = ctx.number(v, Dimension::TIME, entry, "from")?;
+    if !(t >= 0.0 && t < end) {
+        return Err(ctx.err(
+            Some(v.span()),
+            entry,
+            "from",
+            format!("must lie in [0, {end}) s, the experiment's record"),
+        ));
+    }
+    Ok(t)
+}
+
+/// The experiment's `use`: fit (the default) or validation.
+fn role(ctx: &Ctx, rx: &RawExperiment, entry: &str) -> Result<Role> {
+    let Some(r) = &rx.role else {
+        return Ok(Role::Fit);
     };
-    let names_e: Vec<&str> = excitations.iter().map(|e| e.name.as_str()).collect();
-    let excitations = pick(ctx, &rx.excitations, &names_e, entry, "excitations", true)?;
-    let names_s: Vec<&str> = sensors.iter().map(|s| s.name.as_str()).collect();
-    let sensors = pick(ctx, &rx.sensors, &names_s, entry, "sensors", false)?;
-    let role = match &rx.role {
-        None => Role::Fit,
-        Some(r) => match r.get_ref().trim() {
-            "fit" => Role::Fit,
-            "validation" => Role::Validation,
-            other => {
-                return Err(ctx.err(
-                    Some(r.span()),
-                    entry,
-                    "use",
-                    format!("unknown use '{other}' (fit or validation)"),
-                ))
-            }
-        },
-    };
-    let weight = match &rx.weight {
-        None => 1.0,
-        Some(w) => {
-            let v = ctx.number(w, Dimension::DIMENSIONLESS, entry, "weight")?;
-            if !(v > 0.0) {
-                return Err(ctx.err(Some(w.span()), entry, "weight", "must be positive"));
-            }
-            v
-        }
-    };
-    Ok(Experiment {
-        name,
-        data,
-        set,
-        from,
-        duration,
-        sample_rate,
-        excitations,
-        sensors,
-        role,
-        weight,
-    })
+    match r.get_ref().trim() {
+        "fit" => Ok(Role::Fit),
+        "validation" => Ok(Role::Validation),
+        other => Err(ctx.err(
+            Some(r.span()),
+            entry,
+            "use",
+            format!("unknown use '{other}' (fit or validation)"),
+        )),
+    }
+}
+
+/// The experiment's positive weight; 1 when absent.
+fn weight(ctx: &Ctx, rx: &RawExperiment, entry: &str) -> Result<f64> {
+    let Some(w) = &rx.weight else { return Ok(1.0) };
+    let v = ctx.number(w, Dimension::DIMENSIONLESS, entry, "weight")?;
+    if !(v > 0.0) {
+        return Err(ctx.err(Some(w.span()), entry, "weight", "must be positive"));
+    }
+    Ok(v)
 }
 
 /// One `set = { NAME = VALUE }` item: a fixed parameter and its value, SI.

@@ -1,0 +1,138 @@
+//! The `[[sensor]]` entries: what is measured, where, and in which file.
+use super::bodies::Bodies;
+use super::ctx::*;
+use crate::io::model_file::raw::*;
+use crate::model::*;
+use crate::units::Dimension;
+use std::collections::HashMap;
+use toml::Spanned;
+
+/// Reads every `[[sensor]]`; a model needs at least one.
+pub(super) fn sensors(ctx: &mut Ctx, raw: &RawFile, bodies: &Bodies) -> Result<Vec<Sensor>> {
+    let mut sensors = Vec::new();
+    let mut names = HashMap::new();
+    for (i, s) in raw.sensor.iter().enumerate() {
+        sensors.push(sensor(ctx, s, i, &mut names, bodies)?);
+    }
+    if sensors.is_empty() {
+        return Err(ctx.err(
+            None,
+            "",
+            "sensor",
+            "the model has no [[sensor]]: nothing to simulate or identify",
+        ));
+    }
+    Ok(sensors)
+}
+
+/// One `[[sensor]]`: name, body, point, direction, quantity, data, gain, offset.
+fn sensor(
+    ctx: &mut Ctx,
+    s: &Spanned<RawSensor>,
+    i: usize,
+    names: &mut HashMap<String, usize>,
+    bodies: &Bodies,
+) -> Result<Sensor> {
+    let name = sensor_name(ctx, s, i, names)?;
+    let entry = format!("sensor \"{name}\"");
+    let rs = s.get_ref();
+    let body = bodies.find(
+        ctx,
+        required(ctx, &rs.body, s.span(), &entry, "body")?,
+        &entry,
+        "body",
+    )?;
+    let at = ctx.vec3(
+        required(ctx, &rs.at, s.span(), &entry, "at")?,
+        Dimension::LENGTH,
+        &entry,
+        "at",
+    )?;
+    let direction = ctx.direction(
+        required(ctx, &rs.direction, s.span(), &entry, "direction")?,
+        &entry,
+        "direction",
+    )?;
+    let kind = sensor_kind(
+        ctx,
+        required(ctx, &rs.quantity, s.span(), &entry, "quantity")?,
+        &entry,
+    )?;
+    let data = sensor_data(ctx, rs, &name, &entry)?;
+    let gain = match &rs.gain {
+        Some(g) => ctx.value(g, Dimension::DIMENSIONLESS, &entry, "gain")?,
+        None => Value::Fixed(1.0),
+    };
+    let offset = match &rs.offset {
+        Some(o) => ctx.value(o, reading_dimension(kind), &entry, "offset")?,
+        None => Value::Fixed(0.0),
+    };
+    Ok(Sensor {
+        name,
+        body,
+        at,
+        direction,
+        kind,
+        data,
+        gain,
+        offset,
+    })
+}
+
+/// A sensor's name: unique, not `time`, without commas or quotes (it heads a column).
+fn sensor_name(
+    ctx: &Ctx,
+    s: &Spanned<RawSensor>,
+    i: usize,
+    names: &mut HashMap<String, usize>,
+) -> Result<String> {
+    let (name, span) = name_of(ctx, &s.get_ref().name, s.span(), "sensor", i)?;
+    let entry = format!("sensor \"{name}\"");
+    check_unique(ctx, names, &name, span.clone(), "sensor", i)?;
+    if name == "time" || name.contains(',') || name.contains('"') {
+        return Err(ctx.err(
+            Some(span),
+            &entry,
+            "name",
+            "a sensor name cannot be 'time' or contain commas or quotes",
+        ));
+    }
+    Ok(name)
+}
+
+/// A sensor's `quantity`: displacement, velocity or acceleration.
+fn sensor_kind(ctx: &Ctx, q: &Spanned<String>, entry: &str) -> Result<SensorKind> {
+    match q.get_ref().trim() {
+        "displacement" => Ok(SensorKind::Displacement),
+        "velocity" => Ok(SensorKind::Velocity),
+        "acceleration" => Ok(SensorKind::Acceleration),
+        other => Err(ctx.err(
+            Some(q.span()),
+            entry,
+            "quantity",
+            format!("unknown quantity '{other}' (displacement, velocity or acceleration)"),
+        )),
+    }
+}
+
+/// Where a sensor's measurements are: its `data`, checked, or its own column.
+fn sensor_data(ctx: &Ctx, rs: &RawSensor, name: &str, entry: &str) -> Result<DataSource> {
+    match &rs.data {
+        Some(d) => {
+            d.get_ref()
+                .check()
+                .map_err(|m| ctx.err(Some(d.span()), entry, "data", m))?;
+            Ok(d.get_ref().clone())
+        }
+        None => Ok(DataSource::for_sensor(name)),
+    }
+}
+
+/// The dimension of what a sensor of this kind reads (and of its offset).
+fn reading_dimension(kind: SensorKind) -> Dimension {
+    match kind {
+        SensorKind::Displacement => Dimension::LENGTH,
+        SensorKind::Velocity => Dimension::LENGTH.div(Dimension::TIME),
+        SensorKind::Acceleration => Dimension::LENGTH.div(Dimension::TIME.powf(2.0)),
+    }
+}
