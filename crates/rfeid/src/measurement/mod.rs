@@ -334,6 +334,19 @@ pub fn add_noise(response: &mut Response, fraction: f64, seed: u64) {
 /// `compare`: `100 (1 − ‖y − ŷ‖ / ‖y − mean(y)‖)`; 100 is a perfect fit, 0
 /// no better than the mean. `None` for a constant measured signal.
 pub fn fit_percent(measured: &[f64], fitted: &[f64]) -> Option<f64> {
+    let (misfit, spread) = misfit_and_spread(measured, fitted);
+    percent_fit(misfit, spread)
+}
+
+/// `100 (1 − misfit / spread)`, or `None` for a constant measured signal
+/// (no spread).
+pub fn percent_fit(misfit: f64, spread: f64) -> Option<f64> {
+    (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread))
+}
+
+/// The misfit `‖y − ŷ‖` of `fitted` ŷ to `measured` y, and the spread
+/// `‖y − mean(y)‖` of the measured signal.
+pub fn misfit_and_spread(measured: &[f64], fitted: &[f64]) -> (f64, f64) {
     let n = measured.len().max(1) as f64;
     let mean = measured.iter().sum::<f64>() / n;
     let spread = measured
@@ -347,5 +360,5 @@ pub fn fit_percent(measured: &[f64], fitted: &[f64]) -> Option<f64> {
         .map(|(y, g)| (y - g) * (y - g))
         .sum::<f64>()
         .sqrt();
-    (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread))
+    (misfit, spread)
 }

@@ -4,6 +4,7 @@ use super::reason::{Reason, SensorCheck};
 use super::settings::VerdictSettings;
 use super::FitSignal;
 use crate::identification::chi_square::chi_square_sf;
+use crate::measurement::{misfit_and_spread, percent_fit};
 
 /// Every sensor's checks, each failed one pushed to `reasons`.
 pub(super) fn check_sensors(
@@ -44,15 +45,8 @@ fn check_sensor(
     let name = name.to_string();
     residual.clear();
     residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
-    let n = y.len().max(1) as f64;
-    let mean = y.iter().sum::<f64>() / n;
-    let spread = y
-        .iter()
-        .map(|v| (v - mean) * (v - mean))
-        .sum::<f64>()
-        .sqrt();
-    let misfit = residual.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let fit_percent = (spread > 0.0).then(|| 100.0 * (1.0 - misfit / spread));
+    let (misfit, spread) = misfit_and_spread(y, g);
+    let fit_percent = percent_fit(misfit, spread);
     if fit_percent.is_none_or(|f| f < s.min_fit_percent) {
         reasons.push(Reason::PoorFit {
             sensor: name.clone(),
