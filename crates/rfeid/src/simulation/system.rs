@@ -107,7 +107,7 @@ impl<'a> System<'a> {
         check_finite(model, params)?;
         let n = structure.n;
         let (minv, minv_gravity) = inverse_masses(model, structure, params)?;
-        let (k, c, power) = component_matrices(model, structure, params)?;
+        let ComponentMatrices { k, c, power } = component_matrices(model, structure, params)?;
         let a_lin = linear_accel(n, &minv, &k, &c);
         let minv_loads: Vec<Vec<f64>> = structure
             .loads
@@ -442,13 +442,24 @@ fn add_outer(mat: &mut [f64], n: usize, row: &Row, s: f64) {
     }
 }
 
+/// The components' coefficients gathered: linear parts as matrices, power
+/// laws as rows.
+struct ComponentMatrices {
+    /// Linear stiffness K, n × n, row-major.
+    k: Vec<f64>,
+    /// Damping C, n × n, row-major.
+    c: Vec<f64>,
+    /// The power-law rows.
+    power: Vec<PowerRow>,
+}
+
 /// The linear stiffness K and damping C (n × n, row-major) and the
 /// power-law rows, refusing an exponent below 1.
 fn component_matrices(
     model: &Model,
     structure: &Structure,
     params: &[f64],
-) -> Result<(Vec<f64>, Vec<f64>, Vec<PowerRow>), SimulationError> {
+) -> Result<ComponentMatrices, SimulationError> {
     let n = structure.n;
     let mut k = vec![0.0; n * n];
     let mut c = vec![0.0; n * n];
@@ -480,7 +491,7 @@ fn component_matrices(
             }
         }
     }
-    Ok((k, c, power))
+    Ok(ComponentMatrices { k, c, power })
 }
 
 /// `[−M⁻¹K | −M⁻¹C]`, n × 2n, row-major.

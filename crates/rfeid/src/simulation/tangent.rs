@@ -270,16 +270,16 @@ impl Tangent {
     }
 }
 
+/// Identified parameters acting at one place: (column, usage).
+type ColumnUsages = Vec<(usize, Usage)>;
+
 /// The usages of the parameters `wrt` (by column): per component row, and
 /// the others (masses, inertias, amplitudes).
 ///
 /// Usages per component first, so that the active components come in
 /// component order whatever the order of `wrt`: a column's explicit terms
 /// are then summed in the same order however it is asked for.
-fn usages_by_component(
-    structure: &Structure,
-    wrt: &[usize],
-) -> (Vec<Vec<(usize, Usage)>>, Vec<(usize, Usage)>) {
+fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsages>, ColumnUsages) {
     let mut usages = vec![Vec::new(); structure.components.len()];
     let mut others = Vec::new();
     for (col, &p) in wrt.iter().enumerate() {
