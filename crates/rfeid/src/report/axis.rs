@@ -267,23 +267,36 @@ impl Frame {
         x_ticks: usize,
         y_ticks: usize,
     ) {
+        let xt = ticks_or_none(&self.xs, x_ticks);
+        let yt = ticks_or_none(&self.ys, y_ticks);
+        self.grid(svg, &xt, &yt);
+        self.border(svg, y_ticks > 0);
+        self.x_tick_labels(svg, &xt);
+        let label_width = self.y_tick_labels(svg, &yt);
+        let title = |t: &str, f: &Option<String>| match f {
+            Some(f) if !t.is_empty() => format!("{t} ({f})"),
+            _ => t.to_owned(),
+        };
+        if !x_title.is_empty() {
+            svg.text(
+                self.x + 0.5 * self.w,
+                self.y + self.h + 31.0,
+                &title(x_title, &xt.factor),
+                Anchor::Middle,
+            );
+        }
+        if !y_title.is_empty() {
+            svg.text_vertical(
+                self.x - label_width - 14.0,
+                self.y + 0.5 * self.h,
+                &title(y_title, &yt.factor),
+            );
+        }
+    }
+
+    /// The grid lines at the ticks inside the frame.
+    fn grid(&self, svg: &mut Svg, xt: &Ticks, yt: &Ticks) {
         let grid = Stroke::new(colour::GRID, 1.0);
-        let ink = Stroke::new(colour::INK, 1.0);
-        let none = Ticks {
-            values: Vec::new(),
-            labels: Vec::new(),
-            factor: None,
-        };
-        let xt = if x_ticks == 0 {
-            none.clone()
-        } else {
-            self.xs.ticks(x_ticks)
-        };
-        let yt = if y_ticks == 0 {
-            none
-        } else {
-            self.ys.ticks(y_ticks)
-        };
         let (bottom, right) = (self.y + self.h, self.x + self.w);
         for v in &xt.values {
             let p = self.px(*v);
@@ -297,8 +310,14 @@ impl Frame {
                 svg.line(self.x, p, right, p, grid);
             }
         }
+    }
+
+    /// The frame's border, with the vertical axis's minor ticks if `minor`.
+    fn border(&self, svg: &mut Svg, minor: bool) {
+        let ink = Stroke::new(colour::INK, 1.0);
+        let bottom = self.y + self.h;
         svg.rect(self.x, self.y, self.w, self.h, "none", Some(ink));
-        if y_ticks > 0 {
+        if minor {
             for v in self.ys.minor_ticks() {
                 let p = self.py(v);
                 if p >= self.y && p <= bottom {
@@ -306,6 +325,12 @@ impl Frame {
                 }
             }
         }
+    }
+
+    /// The horizontal axis's ticks and their labels.
+    fn x_tick_labels(&self, svg: &mut Svg, xt: &Ticks) {
+        let ink = Stroke::new(colour::INK, 1.0);
+        let (bottom, right) = (self.y + self.h, self.x + self.w);
         for (v, l) in xt.values.iter().zip(&xt.labels) {
             let p = self.px(*v);
             if p >= self.x - 0.5 && p <= right + 0.5 {
@@ -313,6 +338,13 @@ impl Frame {
                 svg.text(p, bottom + 15.0, l, Anchor::Middle);
             }
         }
+    }
+
+    /// The vertical axis's ticks and their labels; returns the widest
+    /// label's width.
+    fn y_tick_labels(&self, svg: &mut Svg, yt: &Ticks) -> f64 {
+        let ink = Stroke::new(colour::INK, 1.0);
+        let bottom = self.y + self.h;
         let mut label_width: f64 = 0.0;
         for (v, l) in yt.values.iter().zip(&yt.labels) {
             let p = self.py(*v);
@@ -322,25 +354,20 @@ impl Frame {
                 label_width = label_width.max(text_width(l, FONT_SIZE));
             }
         }
-        let title = |t: &str, f: &Option<String>| match f {
-            Some(f) if !t.is_empty() => format!("{t} ({f})"),
-            _ => t.to_owned(),
-        };
-        if !x_title.is_empty() {
-            svg.text(
-                self.x + 0.5 * self.w,
-                bottom + 31.0,
-                &title(x_title, &xt.factor),
-                Anchor::Middle,
-            );
+        label_width
+    }
+}
+
+/// About `count` ticks of `scale`, or none for a count of 0.
+fn ticks_or_none(scale: &Scale, count: usize) -> Ticks {
+    if count == 0 {
+        Ticks {
+            values: Vec::new(),
+            labels: Vec::new(),
+            factor: None,
         }
-        if !y_title.is_empty() {
-            svg.text_vertical(
-                self.x - label_width - 14.0,
-                self.y + 0.5 * self.h,
-                &title(y_title, &yt.factor),
-            );
-        }
+    } else {
+        scale.ticks(count)
     }
 }
 

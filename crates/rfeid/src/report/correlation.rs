@@ -73,6 +73,19 @@ fn cell_text(r: f64) -> String {
     s.replace('-', "−")
 }
 
+/// The place of the heat map's cells on the page.
+#[derive(Debug, Clone, Copy)]
+struct Grid {
+    /// Left edge of the cells.
+    x0: f64,
+    /// Top edge of the cells.
+    y0: f64,
+    /// Side of a cell.
+    cell: f64,
+    /// Side of the whole grid.
+    size: f64,
+}
+
 /// The heat map of `corr` (r × r) with `names` on both axes; the cells of
 /// `pairs` (i < j, both triangles) are outlined as beyond `threshold`.
 pub(crate) fn correlation_figure(
@@ -82,17 +95,10 @@ pub(crate) fn correlation_figure(
     threshold: f64,
 ) -> String {
     let n = corr.len().max(1);
-    let cell = (560.0 / n as f64).clamp(10.0, 40.0);
-    let label_w = names
-        .iter()
-        .map(|s| text_width(s, FONT_SIZE))
-        .fold(20.0, f64::max)
-        + 12.0;
-    let (x0, y0) = (label_w + 10.0, 40.0 + label_w);
-    let grid = cell * n as f64;
-    let bar_x = x0 + grid + 40.0;
+    let grid = grid_layout(n, names);
+    let bar_x = grid.x0 + grid.size + 40.0;
     let width = (bar_x + 90.0).max(400.0);
-    let height = y0 + grid + 24.0;
+    let height = grid.y0 + grid.size + 24.0;
     let mut svg = Svg::new(width, height, "Correlation matrix of the estimates");
     let key = format!("|correlation| > {threshold}: warned about");
     legend(
@@ -101,6 +107,33 @@ pub(crate) fn correlation_figure(
         18.0,
         &[(key.as_str(), Key::Line(Stroke::new(colour::BLACK, 2.0)))],
     );
+    heat_map_cells(&mut svg, grid, corr, names, n <= MAX_PRINTED);
+    outline_pairs(&mut svg, grid, pairs);
+    colour_bar(&mut svg, grid, bar_x);
+    svg.finish()
+}
+
+/// The cells' size and place for an n × n map, leaving room for `names`.
+fn grid_layout(n: usize, names: &[String]) -> Grid {
+    let cell = (560.0 / n as f64).clamp(10.0, 40.0);
+    let label_w = names
+        .iter()
+        .map(|s| text_width(s, FONT_SIZE))
+        .fold(20.0, f64::max)
+        + 12.0;
+    let (x0, y0) = (label_w + 10.0, 40.0 + label_w);
+    Grid {
+        x0,
+        y0,
+        cell,
+        size: cell * n as f64,
+    }
+}
+
+/// The names along both axes and the coloured cells, with their values
+/// printed if `printed`.
+fn heat_map_cells(svg: &mut Svg, g: Grid, corr: &[Vec<f64>], names: &[String], printed: bool) {
+    let (x0, y0, cell) = (g.x0, g.y0, g.cell);
     let font = (0.3 * cell).min(10.0);
     for (i, row) in corr.iter().enumerate() {
         let name = names.get(i).map(String::as_str).unwrap_or("?");
@@ -111,7 +144,7 @@ pub(crate) fn correlation_figure(
         for (j, &r) in row.iter().enumerate() {
             let (x, y) = (x0 + cell * j as f64, y0 + cell * i as f64);
             svg.rect(x, y, cell, cell, &diverging(r), None);
-            if n <= MAX_PRINTED {
+            if printed {
                 let ink = if r.abs() > 0.6 {
                     "#ffffff"
                 } else {
@@ -130,30 +163,36 @@ pub(crate) fn correlation_figure(
             }
         }
     }
-    // The warned pairs outlined in both triangles, after all cells so no
-    // fill covers them.
+}
+
+/// The warned pairs outlined in both triangles (after all cells so no fill
+/// covers them), and the grid's border.
+fn outline_pairs(svg: &mut Svg, g: Grid, pairs: &[(usize, usize)]) {
     for &(a, b) in pairs {
         for (i, j) in [(a, b), (b, a)] {
             svg.rect(
-                x0 + cell * j as f64 + 1.0,
-                y0 + cell * i as f64 + 1.0,
-                cell - 2.0,
-                cell - 2.0,
+                g.x0 + g.cell * j as f64 + 1.0,
+                g.y0 + g.cell * i as f64 + 1.0,
+                g.cell - 2.0,
+                g.cell - 2.0,
                 "none",
                 Some(Stroke::new(colour::BLACK, 2.0)),
             );
         }
     }
     svg.rect(
-        x0,
-        y0,
-        grid,
-        grid,
+        g.x0,
+        g.y0,
+        g.size,
+        g.size,
         "none",
         Some(Stroke::new(colour::INK, 1.0)),
     );
+}
 
-    // Colour bar.
+/// The colour bar at `bar_x`, as tall as the grid, with its ticks.
+fn colour_bar(svg: &mut Svg, g: Grid, bar_x: f64) {
+    let (y0, grid) = (g.y0, g.size);
     let steps = 40;
     let h = grid / steps as f64;
     for k in 0..steps {
@@ -186,7 +225,6 @@ pub(crate) fn correlation_figure(
         svg.text(bar_x + 23.0, y + 4.0, label, Anchor::Start);
     }
     svg.text_vertical(bar_x + 64.0, y0 + 0.5 * grid, "correlation");
-    svg.finish()
 }
 
 #[cfg(test)]

@@ -78,14 +78,27 @@ pub(crate) fn trajectory_figure(
     reference: Option<&[f64]>,
 ) -> String {
     let rows = params.len().div_ceil(COLUMNS).max(1);
-    let (cell_w, cell_h) = (205.0, 124.0);
-    let (pw, ph) = (150.0, 72.0);
-    let height = 36.0 + cell_h * rows as f64;
+    let height = 36.0 + CELL.1 * rows as f64;
     let mut svg = Svg::new(
         860.0,
         height,
         "Parameter trajectories, normalised to their boxes",
     );
+    trajectory_legend(&mut svg, reference.is_some());
+    let last = history.iter().map(|h| h.iteration).max().unwrap_or(0);
+    for (j, p) in params.iter().enumerate() {
+        let frame = panel_frame(&mut svg, j, p, last);
+        let reference = reference.and_then(|r| r.get(j)).copied();
+        panel_trajectory(&mut svg, &frame, history, j, p, reference);
+    }
+    svg.finish()
+}
+
+/// Width and height of a small panel's cell.
+const CELL: (f64, f64) = (205.0, 124.0);
+
+/// The legend of the trajectories (with the reference's line if there is one).
+fn trajectory_legend(svg: &mut Svg, with_reference: bool) {
     let mut items = vec![
         (
             "parameter: 0 = box min, 1 = box max",
@@ -93,79 +106,94 @@ pub(crate) fn trajectory_figure(
         ),
         ("box", Key::Swatch(colour::SHADE)),
     ];
-    if reference.is_some() {
+    if with_reference {
         items.push((
             "reference",
             Key::Line(Stroke::new(colour::BLACK, 1.2).dashed(dash::DASHED)),
         ));
     }
-    legend(&mut svg, 40.0, 16.0, &items);
-    let last = history.iter().map(|h| h.iteration).max().unwrap_or(0);
-    for (j, p) in params.iter().enumerate() {
-        let (row, col) = (j / COLUMNS, j % COLUMNS);
-        // The search's own coordinate: linear or logarithmic in the box.
-        let map = crate::identification::box_map::BoxMap::new(p.min, p.max, p.scale);
-        let norm = |x: f64| {
-            if p.max > p.min {
-                map.to_normalised(x)
-            } else {
-                0.5
-            }
-        };
-        let frame = Frame {
-            x: 40.0 + cell_w * col as f64,
-            y: 56.0 + cell_h * row as f64,
-            w: pw,
-            h: ph,
-            xs: Scale::linear(0.0, last as f64),
-            ys: Scale::Linear { lo: -0.1, hi: 1.1 },
-        };
-        svg.rect(
-            frame.x,
-            frame.py(1.0),
-            frame.w,
-            frame.py(0.0) - frame.py(1.0),
-            colour::SHADE,
-            None,
-        );
-        frame.axes_with(&mut svg, "", "", iteration_ticks(last).min(3), 2);
-        svg.text_styled(
-            frame.x,
-            frame.y - 6.0,
-            &p.name,
-            Anchor::Start,
-            11.0,
-            colour::INK,
-            "font-weight=\"bold\"",
-        );
-        if let Some(r) = reference.and_then(|r| r.get(j)) {
-            let y = frame.py_clamped(norm(*r));
-            svg.line(
-                frame.x,
-                y,
-                frame.x + frame.w,
-                y,
-                Stroke::new(colour::BLACK, 1.2).dashed(dash::DASHED),
-            );
+    legend(svg, 40.0, 16.0, &items);
+}
+
+/// Parameter j's panel: its frame over iterations 0 … last, the box shaded,
+/// its axes and its name.
+fn panel_frame(svg: &mut Svg, j: usize, p: &ParameterEstimate, last: usize) -> Frame {
+    let (pw, ph) = (150.0, 72.0);
+    let (row, col) = (j / COLUMNS, j % COLUMNS);
+    let frame = Frame {
+        x: 40.0 + CELL.0 * col as f64,
+        y: 56.0 + CELL.1 * row as f64,
+        w: pw,
+        h: ph,
+        xs: Scale::linear(0.0, last as f64),
+        ys: Scale::Linear { lo: -0.1, hi: 1.1 },
+    };
+    svg.rect(
+        frame.x,
+        frame.py(1.0),
+        frame.w,
+        frame.py(0.0) - frame.py(1.0),
+        colour::SHADE,
+        None,
+    );
+    frame.axes_with(svg, "", "", iteration_ticks(last).min(3), 2);
+    svg.text_styled(
+        frame.x,
+        frame.y - 6.0,
+        &p.name,
+        Anchor::Start,
+        11.0,
+        colour::INK,
+        "font-weight=\"bold\"",
+    );
+    frame
+}
+
+/// Parameter j's marks in its panel: the reference's line, the trajectory
+/// in the search's own coordinate (linear or logarithmic in the box) with
+/// its last point, and the axis title.
+fn panel_trajectory(
+    svg: &mut Svg,
+    frame: &Frame,
+    history: &[Iterate],
+    j: usize,
+    p: &ParameterEstimate,
+    reference: Option<f64>,
+) {
+    let map = crate::identification::box_map::BoxMap::new(p.min, p.max, p.scale);
+    let norm = |x: f64| {
+        if p.max > p.min {
+            map.to_normalised(x)
+        } else {
+            0.5
         }
-        let pts: Vec<(f64, f64)> = history
-            .iter()
-            .filter_map(|h| h.parameters.get(j).map(|x| (h.iteration, *x)))
-            .map(|(it, x)| (frame.px(it as f64), frame.py_clamped(norm(x))))
-            .collect();
-        svg.path(
-            &super::decimate::path_data(&pts),
-            Stroke::new(colour::BLUE, 1.4),
-        );
-        if let Some(&(x, y)) = pts.last() {
-            svg.marker(Marker::Dot, x, y, 2.6, colour::BLUE);
-        }
-        svg.text(
-            frame.x + frame.w * 0.5,
-            frame.y + frame.h + 30.0,
-            "iteration",
-            Anchor::Middle,
+    };
+    if let Some(r) = reference {
+        let y = frame.py_clamped(norm(r));
+        svg.line(
+            frame.x,
+            y,
+            frame.x + frame.w,
+            y,
+            Stroke::new(colour::BLACK, 1.2).dashed(dash::DASHED),
         );
     }
-    svg.finish()
+    let pts: Vec<(f64, f64)> = history
+        .iter()
+        .filter_map(|h| h.parameters.get(j).map(|x| (h.iteration, *x)))
+        .map(|(it, x)| (frame.px(it as f64), frame.py_clamped(norm(x))))
+        .collect();
+    svg.path(
+        &super::decimate::path_data(&pts),
+        Stroke::new(colour::BLUE, 1.4),
+    );
+    if let Some(&(x, y)) = pts.last() {
+        svg.marker(Marker::Dot, x, y, 2.6, colour::BLUE);
+    }
+    svg.text(
+        frame.x + frame.w * 0.5,
+        frame.y + frame.h + 30.0,
+        "iteration",
+        Anchor::Middle,
+    );
 }

@@ -133,10 +133,32 @@ fn verdict(out: &mut String, r: &IdentificationResult) {
     }
 }
 
+/// The summary section: the verdict, how the local search ended, the worst
+/// error against the reference, and a table of the result's numbers.
 fn summary(out: &mut String, input: &ReportInput) {
     let r = input.result;
     section(out, "summary");
     verdict(out, r);
+    search_outcome(out, r);
+    if let Some(reference) = input.reference {
+        worst_reference_error(out, r, reference);
+    }
+    let mut rows = summary_rows(input);
+    rows.retain(|row| !row.1.is_empty());
+    out.push_str("<table class=\"kv\">\n");
+    for (k, v) in rows {
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td>{}</td></tr>",
+            escape(k),
+            escape(&v)
+        );
+    }
+    out.push_str("</table>\n</section>\n");
+}
+
+/// Whether the local search converged, and why it stopped.
+fn search_outcome(out: &mut String, r: &IdentificationResult) {
     let (class, word) = if converged(r) {
         ("ok", "Converged")
     } else {
@@ -153,124 +175,44 @@ fn summary(out: &mut String, input: &ReportInput) {
         "<p class=\"search {class}\">Local search: {word}: {}</p>",
         escape(why)
     );
-    if let Some(reference) = input.reference {
-        if let Some((name, rel, in_se)) = worst_error(r, reference) {
-            let se = in_se
-                .map(|s| format!(" = {} standard errors", sig(s, 2)))
-                .unwrap_or_default();
-            let _ = writeln!(
-                out,
-                "<p><b>Worst |estimate − reference|:</b> {} % of the reference ({}){}.</p>",
-                sig(100.0 * rel, 3),
-                escape(&name),
-                se
-            );
-        }
+}
+
+/// The largest relative error of an estimate against the reference.
+fn worst_reference_error(out: &mut String, r: &IdentificationResult, reference: &[f64]) {
+    if let Some((name, rel, in_se)) = worst_error(r, reference) {
+        let se = in_se
+            .map(|s| format!(" = {} standard errors", sig(s, 2)))
+            .unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "<p><b>Worst |estimate − reference|:</b> {} % of the reference ({}){}.</p>",
+            sig(100.0 * rel, 3),
+            escape(&name),
+            se
+        );
     }
-    let samples = input.time.len();
-    let mut rows: Vec<(&str, String)> = vec![
+}
+
+/// The summary table's rows (name, value); an empty value is left out.
+fn summary_rows(input: &ReportInput) -> Vec<(&'static str, String)> {
+    let r = input.result;
+    vec![
         ("criterion J (eq. 13)", sig(r.criterion, 4)),
         (
             "s² (eq. 29)",
             r.s2.map_or_else(|| "not available".into(), |v| sig(v, 4)),
         ),
         ("sum of squared residuals", sig(r.ssr, 4)),
-        (
-            "observations N",
-            format!(
-                "{} = {} sensors × {} samples (of {} recorded)",
-                r.observations,
-                r.sensors.len(),
-                r.observations / r.sensors.len().max(1),
-                samples
-            ),
-        ),
+        ("observations N", observations_text(r, input.time.len())),
         ("fitted from", format!("t = {} s", sig(r.from, 4))),
-        (
-            "experiments (fit per sensor, %)",
-            r.experiments
-                .iter()
-                .map(|e| {
-                    let fits: Vec<String> = e
-                        .sensors
-                        .iter()
-                        .zip(&e.fits)
-                        .map(|(s, f)| match f {
-                            Some(f) => format!("{s} {}", sig(*f, 4)),
-                            None => format!("{s} undefined"),
-                        })
-                        .collect();
-                    let role = match e.role {
-                        crate::model::Role::Fit => "fitted",
-                        crate::model::Role::Validation => "validation",
-                    };
-                    format!("{} ({role}): {}", e.name, fits.join(", "))
-                })
-                .collect::<Vec<_>>()
-                .join("; "),
-        ),
+        ("experiments (fit per sensor, %)", experiments_text(r)),
         (
             "fit per sensor (100 (1 − ‖y − ŷ‖/‖y − ȳ‖))",
-            r.verdict.as_ref().map_or_else(String::new, |v| {
-                v.sensors
-                    .iter()
-                    .map(|s| match s.fit_percent {
-                        Some(f) => format!("{}: {} %", s.sensor, sig(f, 4)),
-                        None => format!("{}: undefined (constant signal)", s.sensor),
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }),
+            sensor_fits_text(r),
         ),
-        (
-            "minima reached by the starts",
-            r.verdict.as_ref().map_or_else(String::new, |v| {
-                v.minima
-                    .iter()
-                    .map(|m| {
-                        format!(
-                            "J = {} ({} start{})",
-                            sig(m.cost, 4),
-                            m.starts,
-                            if m.starts == 1 { "" } else { "s" }
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }),
-        ),
-        (
-            "method",
-            format!(
-                "{} — {} iterations, {} simulations ({} with sensitivities, {} failed)",
-                match r.method {
-                    Method::Lm => "Levenberg–Marquardt",
-                    Method::Bfgs => "BFGS",
-                },
-                r.iterations,
-                r.simulations,
-                r.simulations_with_sensitivities,
-                r.failed_simulations
-            ),
-        ),
-        (
-            "integrator",
-            match &r.simulation {
-                Some(s) => format!(
-                    "{} step(s) per sample ({}); estimated relative error at the estimate {}",
-                    s.substeps,
-                    if s.automatic {
-                        format!("chosen for a tolerance of {:.0e}", s.tolerance)
-                    } else {
-                        "fixed".into()
-                    },
-                    s.estimated_error
-                        .map(|e| format!("{e:.1e}"))
-                        .unwrap_or_else(|| "not estimated".into())
-                ),
-                None => "not recorded".into(),
-            },
-        ),
+        ("minima reached by the starts", minima_text(r)),
+        ("method", method_text(r)),
+        ("integrator", integrator_text(r)),
         (
             "LP_τ plan",
             format!(
@@ -305,18 +247,109 @@ fn summary(out: &mut String, input: &ReportInput) {
                 r.threads
             ),
         ),
-    ];
-    rows.retain(|row| !row.1.is_empty());
-    out.push_str("<table class=\"kv\">\n");
-    for (k, v) in rows {
-        let _ = writeln!(
-            out,
-            "<tr><td>{}</td><td>{}</td></tr>",
-            escape(k),
-            escape(&v)
-        );
+    ]
+}
+
+/// The number of observations as sensors × samples, of `samples` recorded.
+fn observations_text(r: &IdentificationResult, samples: usize) -> String {
+    format!(
+        "{} = {} sensors × {} samples (of {} recorded)",
+        r.observations,
+        r.sensors.len(),
+        r.observations / r.sensors.len().max(1),
+        samples
+    )
+}
+
+/// Each experiment with its role and its fit per sensor.
+fn experiments_text(r: &IdentificationResult) -> String {
+    r.experiments
+        .iter()
+        .map(|e| {
+            let fits: Vec<String> = e
+                .sensors
+                .iter()
+                .zip(&e.fits)
+                .map(|(s, f)| match f {
+                    Some(f) => format!("{s} {}", sig(*f, 4)),
+                    None => format!("{s} undefined"),
+                })
+                .collect();
+            let role = match e.role {
+                crate::model::Role::Fit => "fitted",
+                crate::model::Role::Validation => "validation",
+            };
+            format!("{} ({role}): {}", e.name, fits.join(", "))
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The verdict's fit per sensor (empty without a verdict).
+fn sensor_fits_text(r: &IdentificationResult) -> String {
+    r.verdict.as_ref().map_or_else(String::new, |v| {
+        v.sensors
+            .iter()
+            .map(|s| match s.fit_percent {
+                Some(f) => format!("{}: {} %", s.sensor, sig(f, 4)),
+                None => format!("{}: undefined (constant signal)", s.sensor),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    })
+}
+
+/// The verdict's distinct minima with how many starts reached each (empty
+/// without a verdict).
+fn minima_text(r: &IdentificationResult) -> String {
+    r.verdict.as_ref().map_or_else(String::new, |v| {
+        v.minima
+            .iter()
+            .map(|m| {
+                format!(
+                    "J = {} ({} start{})",
+                    sig(m.cost, 4),
+                    m.starts,
+                    if m.starts == 1 { "" } else { "s" }
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    })
+}
+
+/// The local search's method, iterations and simulations.
+fn method_text(r: &IdentificationResult) -> String {
+    format!(
+        "{} — {} iterations, {} simulations ({} with sensitivities, {} failed)",
+        match r.method {
+            Method::Lm => "Levenberg–Marquardt",
+            Method::Bfgs => "BFGS",
+        },
+        r.iterations,
+        r.simulations,
+        r.simulations_with_sensitivities,
+        r.failed_simulations
+    )
+}
+
+/// The integrator's steps per sample, how they were chosen, and its error.
+fn integrator_text(r: &IdentificationResult) -> String {
+    match &r.simulation {
+        Some(s) => format!(
+            "{} step(s) per sample ({}); estimated relative error at the estimate {}",
+            s.substeps,
+            if s.automatic {
+                format!("chosen for a tolerance of {:.0e}", s.tolerance)
+            } else {
+                "fixed".into()
+            },
+            s.estimated_error
+                .map(|e| format!("{e:.1e}"))
+                .unwrap_or_else(|| "not estimated".into())
+        ),
+        None => "not recorded".into(),
     }
-    out.push_str("</table>\n</section>\n");
 }
 
 /// Notes on the estimates that are not identifiability warnings as such.

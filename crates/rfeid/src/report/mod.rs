@@ -211,47 +211,9 @@ fn file_stem(name: &str) -> String {
 /// Every figure of the report, in page order.
 pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
     let r = input.result;
-    let mut out = Vec::new();
-    out.push(Figure {
-        file: "parameters.svg".into(),
-        section: "parameters",
-        caption: "Each estimate (dot) inside its box (grey bar, normalised to 0 = min, 1 = max), \
-                  with ±1 (thick) and ±3 (thin) standard errors; the nominal value as a tick"
-            .to_owned()
-            + if input.reference.is_some() {
-                ", the reference as a diamond."
-            } else {
-                "."
-            },
-        svg: intervals::interval_figure(&r.parameters, input.reference),
-    });
-    let channels: Vec<signals::Channel> = r
-        .sensors
-        .iter()
-        .enumerate()
-        .map(|(c, name)| signals::Channel {
-            name,
-            unit: input
-                .model
-                .sensor_index(name.split('[').next().unwrap_or(name))
-                .map(|i| signals::sensor_unit(input.model.sensors[i].kind))
-                .unwrap_or_default(),
-            measured: input.measured.sensor(c),
-            model: input.fitted.sensor(c),
-        })
-        .collect();
-    for (c, ch) in channels.iter().enumerate() {
-        out.push(Figure {
-            file: format!("response-{}-{}.svg", c + 1, file_stem(ch.name)),
-            section: "response",
-            caption: format!(
-                "{}: measured (solid) and model at the estimate (dashed); right, the window \
-                 of about 5 % of the record where the residuals are largest.",
-                ch.name
-            ),
-            svg: signals::fit_figure(input.time, ch, r.from),
-        });
-    }
+    let mut out = vec![parameters_figure(input)];
+    let channels = channels(input);
+    out.extend(response_figures(input, &channels));
     out.push(Figure {
         file: "residuals.svg".into(),
         section: "residuals",
@@ -269,39 +231,108 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
             .into(),
         svg: plan::plan_figure(&r.plan, r.criterion),
     });
-    if !r.history.is_empty() {
-        out.push(Figure {
+    out.extend(history_figures(input));
+    out.extend(correlation_figure(r));
+    out
+}
+
+/// The estimates within their boxes.
+fn parameters_figure(input: &ReportInput) -> Figure {
+    Figure {
+        file: "parameters.svg".into(),
+        section: "parameters",
+        caption: "Each estimate (dot) inside its box (grey bar, normalised to 0 = min, 1 = max), \
+                  with ±1 (thick) and ±3 (thin) standard errors; the nominal value as a tick"
+            .to_owned()
+            + if input.reference.is_some() {
+                ", the reference as a diamond."
+            } else {
+                "."
+            },
+        svg: intervals::interval_figure(&input.result.parameters, input.reference),
+    }
+}
+
+/// Each sensor of the result with its unit, measured and model signals.
+fn channels<'a>(input: &ReportInput<'a>) -> Vec<signals::Channel<'a>> {
+    input
+        .result
+        .sensors
+        .iter()
+        .enumerate()
+        .map(|(c, name)| signals::Channel {
+            name,
+            unit: input
+                .model
+                .sensor_index(name.split('[').next().unwrap_or(name))
+                .map(|i| signals::sensor_unit(input.model.sensors[i].kind))
+                .unwrap_or_default(),
+            measured: input.measured.sensor(c),
+            model: input.fitted.sensor(c),
+        })
+        .collect()
+}
+
+/// One figure per sensor: measured and model signals.
+fn response_figures(input: &ReportInput, channels: &[signals::Channel]) -> Vec<Figure> {
+    channels
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| Figure {
+            file: format!("response-{}-{}.svg", c + 1, file_stem(ch.name)),
+            section: "response",
+            caption: format!(
+                "{}: measured (solid) and model at the estimate (dashed); right, the window \
+                 of about 5 % of the record where the residuals are largest.",
+                ch.name
+            ),
+            svg: signals::fit_figure(input.time, ch, input.result.from),
+        })
+        .collect()
+}
+
+/// The local search's criterion and parameter trajectories (none without
+/// a history).
+fn history_figures(input: &ReportInput) -> Vec<Figure> {
+    let r = input.result;
+    if r.history.is_empty() {
+        return Vec::new();
+    }
+    vec![
+        Figure {
             file: "history-cost.svg".into(),
             section: "history",
             caption: "Criterion J after each iteration of the local search that gave the \
                       estimate."
                 .into(),
             svg: history::cost_figure(&r.history, &r.method.to_string()),
-        });
-        out.push(Figure {
+        },
+        Figure {
             file: "history-parameters.svg".into(),
             section: "history",
             caption: "Each parameter's trajectory over the iterations, normalised to its box \
                       (logarithmically for a log scale, as the search saw it)."
                 .into(),
             svg: history::trajectory_figure(&r.history, &r.parameters, input.reference),
-        });
-    }
-    if let Some(corr) = &r.correlation {
-        let names: Vec<String> = r.parameters.iter().map(|p| p.name.clone()).collect();
-        let (pairs, threshold) = correlation::warned_pairs(r, corr);
-        out.push(Figure {
-            file: "correlation.svg".into(),
-            section: "correlation",
-            caption: format!(
-                "Correlation of the estimates (from the Cramér–Rao bound): −1 blue, \
-                 0 white, +1 red; the pairs the verdict warns about (|ρ| > {threshold}) \
-                 outlined."
-            ),
-            svg: correlation::correlation_figure(corr, &names, &pairs, threshold),
-        });
-    }
-    out
+        },
+    ]
+}
+
+/// The correlation heat map, if the result has a correlation matrix.
+fn correlation_figure(r: &IdentificationResult) -> Option<Figure> {
+    let corr = r.correlation.as_ref()?;
+    let names: Vec<String> = r.parameters.iter().map(|p| p.name.clone()).collect();
+    let (pairs, threshold) = correlation::warned_pairs(r, corr);
+    Some(Figure {
+        file: "correlation.svg".into(),
+        section: "correlation",
+        caption: format!(
+            "Correlation of the estimates (from the Cramér–Rao bound): −1 blue, \
+             0 white, +1 red; the pairs the verdict warns about (|ρ| > {threshold}) \
+             outlined."
+        ),
+        svg: correlation::correlation_figure(corr, &names, &pairs, threshold),
+    })
 }
 
 /// The report as one HTML document.

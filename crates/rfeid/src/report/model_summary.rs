@@ -88,6 +88,17 @@ fn kind(k: SensorKind) -> &'static str {
 /// The model section's body.
 pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> String {
     let mut out = String::new();
+    overview(&mut out, model);
+    bodies_table(&mut out, model);
+    elements_table(&mut out, model);
+    excitations_table(&mut out, model);
+    sensors_table(&mut out, model, result);
+    fixed_parameters_table(&mut out, model);
+    out
+}
+
+/// One paragraph of counts, the record and gravity.
+fn overview(out: &mut String, model: &Model) {
     let s = &model.sampling;
     let _ = writeln!(
         out,
@@ -110,7 +121,10 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
             .map(|g| format!("; gravity {} m/s², from static equilibrium", vector(&g)))
             .unwrap_or_default()
     );
+}
 
+/// The bodies: mass, moments of inertia and centre of mass.
+fn bodies_table(out: &mut String, model: &Model) {
     out.push_str("<h3>Bodies</h3>\n");
     let rows: Vec<Vec<String>> = model
         .bodies
@@ -134,7 +148,10 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
         &[false, true, true, true],
         &[],
     ));
+}
 
+/// The spring–damping elements: what they join, where, and their components.
+fn elements_table(out: &mut String, model: &Model) {
     out.push_str("<h3>Spring–damping elements</h3>\n");
     let rows: Vec<Vec<String>> = model
         .elements
@@ -161,37 +178,44 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
         &[false, false, true, false],
         &[],
     ));
+}
 
-    if !model.excitations.is_empty() {
-        out.push_str("<h3>Excitations</h3>\n");
-        let rows: Vec<Vec<String>> = model
-            .excitations
-            .iter()
-            .map(|x| {
-                vec![
-                    escape(&x.name),
-                    match x.reaction {
-                        Some(r) => format!(
-                            "{} (reaction on {})",
-                            body_name(model, x.body),
-                            body_name(model, r)
-                        ),
-                        None => body_name(model, x.body),
-                    },
-                    vector(&x.at),
-                    vector(&x.direction),
-                    escape(x.signal.kind),
-                ]
-            })
-            .collect();
-        out.push_str(&table(
-            &["excitation", "on", "at (m)", "direction", "signal"],
-            &rows,
-            &[false, false, true, true, false],
-            &[],
-        ));
+/// The excitations, if any: where they act and their signals.
+fn excitations_table(out: &mut String, model: &Model) {
+    if model.excitations.is_empty() {
+        return;
     }
+    out.push_str("<h3>Excitations</h3>\n");
+    let rows: Vec<Vec<String>> = model
+        .excitations
+        .iter()
+        .map(|x| {
+            vec![
+                escape(&x.name),
+                match x.reaction {
+                    Some(r) => format!(
+                        "{} (reaction on {})",
+                        body_name(model, x.body),
+                        body_name(model, r)
+                    ),
+                    None => body_name(model, x.body),
+                },
+                vector(&x.at),
+                vector(&x.direction),
+                escape(x.signal.kind),
+            ]
+        })
+        .collect();
+    out.push_str(&table(
+        &["excitation", "on", "at (m)", "direction", "signal"],
+        &rows,
+        &[false, false, true, true, false],
+        &[],
+    ));
+}
 
+/// The sensors: what they read, where, and their weights in the result.
+fn sensors_table(out: &mut String, model: &Model, result: &IdentificationResult) {
     out.push_str("<h3>Sensors</h3>\n");
     let rows: Vec<Vec<String>> = model
         .sensors
@@ -226,7 +250,10 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
         &[false, false, false, true, true, true],
         &[],
     ));
+}
 
+/// The parameters that are not identified, if any, with their values.
+fn fixed_parameters_table(out: &mut String, model: &Model) {
     let fixed: Vec<Vec<String>> = model
         .parameters
         .iter()
@@ -246,5 +273,4 @@ pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> Str
         out.push_str("<h3>Fixed parameters</h3>\n");
         out.push_str(&table(&["parameter", "value"], &fixed, &[false, true], &[]));
     }
-    out
 }

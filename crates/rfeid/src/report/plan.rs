@@ -19,14 +19,7 @@ const FAILED_FILL: &str = "#fbe5d9";
 /// failed points as crosses in a strip at the top, the start point(s)
 /// ringed, and the final J as a dashed line.
 pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
-    let mut ok: Vec<(usize, f64)> = plan
-        .costs
-        .iter()
-        .enumerate()
-        .filter_map(|(i, c)| c.filter(|v| v.is_finite()).map(|v| (i, v)))
-        .collect();
-    ok.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let n_total = plan.costs.len().max(1);
+    let ok = sorted_finite(plan);
     let n_failed = plan.costs.len() - ok.len();
     let title = format!(
         "LP_τ plan: criterion J at {} points, sorted ({} failed)",
@@ -34,6 +27,37 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
         n_failed
     );
     let mut svg = Svg::new(860.0, 318.0, &title);
+    let (frame, log) = plan_frame(&ok, plan.costs.len(), final_cost);
+    plan_legend(&mut svg);
+    let y_title = if log {
+        "criterion J (log)"
+    } else {
+        "criterion J"
+    };
+    frame.axes(&mut svg, "plan points, sorted by J (rank)", y_title);
+    failed_strip(&mut svg, &frame, ok.len(), plan.costs.len());
+    sorted_costs(&mut svg, &frame, &ok);
+    final_cost_line(&mut svg, &frame, final_cost);
+    start_rings(&mut svg, &frame, &ok, &plan.starts);
+    svg.finish()
+}
+
+/// The plan points with a finite J, as (point, J), sorted by J.
+fn sorted_finite(plan: &PlanSummary) -> Vec<(usize, f64)> {
+    let mut ok: Vec<(usize, f64)> = plan
+        .costs
+        .iter()
+        .enumerate()
+        .filter_map(|(i, c)| c.filter(|v| v.is_finite()).map(|v| (i, v)))
+        .collect();
+    ok.sort_by(|a, b| a.1.total_cmp(&b.1));
+    ok
+}
+
+/// The frame of ranks 1 … n_points against J, and whether J's axis is
+/// logarithmic (when every J is positive).
+fn plan_frame(ok: &[(usize, f64)], n_points: usize, final_cost: f64) -> (Frame, bool) {
+    let n_total = n_points.max(1);
     let values = ok.iter().map(|p| p.1).chain([final_cost]);
     let all_positive = ok.iter().all(|p| p.1 > 0.0) && final_cost > 0.0;
     let (ys, log) = match Scale::log(values.clone()) {
@@ -48,9 +72,13 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
         xs: Scale::linear(0.5, n_total as f64 + 0.5),
         ys,
     };
-    let strip = (frame.y - 28.0, 22.0);
+    (frame, log)
+}
+
+/// The legend above the failed strip.
+fn plan_legend(svg: &mut Svg) {
     legend(
-        &mut svg,
+        svg,
         72.0,
         16.0,
         &[
@@ -69,14 +97,13 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
             ),
         ],
     );
-    let y_title = if log {
-        "criterion J (log)"
-    } else {
-        "criterion J"
-    };
-    frame.axes(&mut svg, "plan points, sorted by J (rank)", y_title);
+}
 
-    // The failed strip above the frame.
+/// The strip above the frame holding the failed points, ranked after the
+/// `n_ok` finite ones: crosses, or one band when there are many.
+fn failed_strip(svg: &mut Svg, frame: &Frame, n_ok: usize, n_points: usize) {
+    let n_failed = n_points - n_ok;
+    let strip = (frame.y - 28.0, 22.0);
     svg.rect(
         frame.x,
         strip.0,
@@ -90,7 +117,7 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
     if n_failed == 0 {
         svg.text(frame.x + 8.0, strip.0 + 15.0, "none failed", Anchor::Start);
     } else if n_failed <= MAX_CROSSES {
-        for r in ok.len()..plan.costs.len() {
+        for r in n_ok..n_points {
             svg.marker(
                 Marker::Cross,
                 frame.px(r as f64 + 1.0),
@@ -100,10 +127,7 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
             );
         }
     } else {
-        let (a, b) = (
-            frame.px(ok.len() as f64 + 0.5),
-            frame.px(plan.costs.len() as f64 + 0.5),
-        );
+        let (a, b) = (frame.px(n_ok as f64 + 0.5), frame.px(n_points as f64 + 0.5));
         svg.rect(
             a,
             strip.0 + 3.0,
@@ -115,11 +139,13 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
     }
     if n_failed > 0 {
         let label = format!("{n_failed} failed (J = +∞)");
-        let x = frame.px(ok.len() as f64 + 0.5) - 6.0;
+        let x = frame.px(n_ok as f64 + 0.5) - 6.0;
         svg.text(x.max(frame.x + 120.0), strip.0 + 15.0, &label, Anchor::End);
     }
+}
 
-    // Sorted criterion values.
+/// The sorted criterion values: dots, or a line when there are many.
+fn sorted_costs(svg: &mut Svg, frame: &Frame, ok: &[(usize, f64)]) {
     let ranks: Vec<f64> = (1..=ok.len()).map(|r| r as f64).collect();
     let costs: Vec<f64> = ok.iter().map(|p| p.1).collect();
     if ok.len() <= MAX_DOTS {
@@ -133,11 +159,13 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
             );
         }
     } else {
-        let pts = min_max_points(&ranks, &costs, &frame);
+        let pts = min_max_points(&ranks, &costs, frame);
         svg.path(&path_data(&pts), Stroke::new(colour::BLUE, 1.6));
     }
+}
 
-    // Final J.
+/// The final J as a dashed line with its value.
+fn final_cost_line(svg: &mut Svg, frame: &Frame, final_cost: f64) {
     if final_cost.is_finite() {
         let y = frame.py_clamped(final_cost);
         svg.line(
@@ -157,9 +185,11 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
             HALO,
         );
     }
+}
 
-    // Start points, ringed at their rank.
-    for (k, s) in plan.starts.iter().enumerate() {
+/// The start points, ringed at their rank; the first three named.
+fn start_rings(svg: &mut Svg, frame: &Frame, ok: &[(usize, f64)], starts: &[usize]) {
+    for (k, s) in starts.iter().enumerate() {
         if let Some(rank) = ok.iter().position(|p| p.0 == *s) {
             let (x, y) = (frame.px(rank as f64 + 1.0), frame.py_clamped(ok[rank].1));
             svg.marker(Marker::Ring, x, y, 6.5, colour::ORANGE);
@@ -176,5 +206,4 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
             }
         }
     }
-    svg.finish()
 }

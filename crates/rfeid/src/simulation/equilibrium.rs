@@ -106,6 +106,7 @@ fn balanced(res: &DVector<f64>, size: &DVector<f64>, tol: f64) -> bool {
         .all(|(r, s)| r.abs() <= tol.max(64.0 * f64::EPSILON * s))
 }
 
+// long-fn: numerical kernel (Newton's iteration for the static equilibrium)
 /// Solves for the static equilibrium under gravity; `wrt` selects the
 /// parameters whose sensitivities `∂q/∂x` are wanted. Newton's method stops
 /// when every row of the residual is within 1e-13 of the largest weight, or

@@ -95,6 +95,9 @@ impl<'m> Simulator<'m> {
         self.integrate_generic::<Fused, D>(params, wrt, ws, out, sens)
     }
 
+    // long-fn: numerical kernel (the time-integration loop)
+    /// The integration loop: steps the model through the record, writing the
+    /// response and, when asked, its sensitivities.
     #[inline(always)]
     fn integrate_generic<M: Madd, D: Dim>(
         &self,

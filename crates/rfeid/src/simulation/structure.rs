@@ -126,110 +126,11 @@ impl Structure {
     /// Assembles B, the excitation maps and the sensor maps of a validated model.
     pub fn new(model: &Model) -> Structure {
         let n = model.n_dof();
-        let body_rho = |b: usize, x: &Vector3<f64>| {
-            let body = &model.bodies[b];
-            body.axes.transpose() * (x - body.com)
-        };
-        let mut components = Vec::new();
-        for (ei, el) in model.elements.iter().enumerate() {
-            // Θ_b S(ρ_b) for each end (eq. 4–5).
-            let end = |b: usize| {
-                let body = &model.bodies[b];
-                let theta: Matrix3<f64> = el.axes.transpose() * body.axes;
-                block_diag(&theta) * attachment(&body_rho(b, &el.at))
-            };
-            let ends: Vec<(usize, f64, nalgebra::Matrix6<f64>)> = std::iter::once((el.body, 1.0))
-                .chain(match el.to {
-                    Attachment::Body(p) => Some((p, -1.0)),
-                    Attachment::Ground => None,
-                })
-                .map(|(b, sign)| (b, sign, end(b)))
-                .collect();
-            for comp in &el.components {
-                let blocks = ends
-                    .iter()
-                    .map(|(b, sign, m)| {
-                        let mut c = [0.0; 6];
-                        for (j, cj) in c.iter_mut().enumerate() {
-                            *cj = sign * m[(comp.dof, j)];
-                        }
-                        (6 * b, c)
-                    })
-                    .collect();
-                components.push(ComponentRow {
-                    element: ei,
-                    dof: comp.dof,
-                    row: Row { blocks },
-                    law: comp.law,
-                    damping: comp.damping,
-                });
-            }
-        }
-
-        let point_row =
-            |b: usize, x: &Vector3<f64>, d: &Vector3<f64>, sign: f64, out: &mut [f64]| {
-                let body = &model.bodies[b];
-                let h = point_direction_row(&body.axes, &body_rho(b, x), d);
-                for i in 0..6 {
-                    out[6 * b + i] += sign * h[i];
-                }
-            };
-        let loads = model
-            .excitations
-            .iter()
-            .map(|e| {
-                let mut l = vec![0.0; n];
-                point_row(e.body, &e.at, &e.direction, 1.0, &mut l);
-                if let Some(r) = e.reaction {
-                    point_row(r, &e.at, &e.direction, -1.0, &mut l);
-                }
-                l
-            })
-            .collect();
-        let sensors = model
-            .sensors
-            .iter()
-            .map(|s| {
-                let mut h = vec![0.0; n];
-                point_row(s.body, &s.at, &s.direction, 1.0, &mut h);
-                (s.kind, Row::from_dense(&h))
-            })
-            .collect();
-        let g = model.gravity.unwrap_or_else(Vector3::zeros);
-        let gravity_local = model
-            .bodies
-            .iter()
-            .map(|b| b.axes.transpose() * g)
-            .collect();
-
-        let mut usages = vec![Vec::new(); model.parameters.len()];
-        let mut add = |v: &Value, u: Usage| {
-            if let Value::Param(p) = v {
-                usages[*p].push(u);
-            }
-        };
-        for (i, c) in components.iter().enumerate() {
-            match &c.law {
-                Law::None => {}
-                Law::Linear { k } => add(k, Usage::Stiffness(i)),
-                Law::Power { a, m, .. } => {
-                    add(a, Usage::PowerCoefficient(i));
-                    add(m, Usage::PowerExponent(i));
-                }
-            }
-            add(&c.damping, Usage::Damping(i));
-        }
-        for (b, body) in model.bodies.iter().enumerate() {
-            add(&body.mass, Usage::Mass(b));
-            for (axis, j) in body.inertia.iter().enumerate() {
-                add(j, Usage::Inertia(b, axis));
-            }
-        }
-        for (e, exc) in model.excitations.iter().enumerate() {
-            for (j, term) in exc.signal.terms.iter().enumerate() {
-                add(&term.amplitude, Usage::Amplitude(e, j));
-            }
-        }
+        let components = component_rows(model);
+        let loads = excitation_loads(model, n);
+        let sensors = sensor_rows(model, n);
+        let gravity_local = gravity_local(model);
+        let usages = usages(model, &components);
         Structure {
             n,
             components,
@@ -239,4 +140,140 @@ impl Structure {
             usages,
         }
     }
+}
+
+/// The point x in body b's frame, from its centre of mass.
+fn body_rho(model: &Model, b: usize, x: &Vector3<f64>) -> Vector3<f64> {
+    let body = &model.bodies[b];
+    body.axes.transpose() * (x - body.com)
+}
+
+/// The rows of B: one per component of each element, in element order.
+fn component_rows(model: &Model) -> Vec<ComponentRow> {
+    let mut components = Vec::new();
+    for (ei, el) in model.elements.iter().enumerate() {
+        // Θ_b S(ρ_b) for each end (eq. 4–5).
+        let end = |b: usize| {
+            let body = &model.bodies[b];
+            let theta: Matrix3<f64> = el.axes.transpose() * body.axes;
+            block_diag(&theta) * attachment(&body_rho(model, b, &el.at))
+        };
+        let ends: Vec<(usize, f64, nalgebra::Matrix6<f64>)> = std::iter::once((el.body, 1.0))
+            .chain(match el.to {
+                Attachment::Body(p) => Some((p, -1.0)),
+                Attachment::Ground => None,
+            })
+            .map(|(b, sign)| (b, sign, end(b)))
+            .collect();
+        for comp in &el.components {
+            let blocks = ends
+                .iter()
+                .map(|(b, sign, m)| {
+                    let mut c = [0.0; 6];
+                    for (j, cj) in c.iter_mut().enumerate() {
+                        *cj = sign * m[(comp.dof, j)];
+                    }
+                    (6 * b, c)
+                })
+                .collect();
+            components.push(ComponentRow {
+                element: ei,
+                dof: comp.dof,
+                row: Row { blocks },
+                law: comp.law,
+                damping: comp.damping,
+            });
+        }
+    }
+    components
+}
+
+/// Adds `sign` times the generalized row of a point x of body b along d
+/// (how a force there enters, or how a sensor there reads) to `out`.
+fn point_row(
+    model: &Model,
+    b: usize,
+    x: &Vector3<f64>,
+    d: &Vector3<f64>,
+    sign: f64,
+    out: &mut [f64],
+) {
+    let body = &model.bodies[b];
+    let h = point_direction_row(&body.axes, &body_rho(model, b, x), d);
+    for i in 0..6 {
+        out[6 * b + i] += sign * h[i];
+    }
+}
+
+/// The generalized force of a unit excitation, per excitation (dense).
+fn excitation_loads(model: &Model, n: usize) -> Vec<Vec<f64>> {
+    model
+        .excitations
+        .iter()
+        .map(|e| {
+            let mut l = vec![0.0; n];
+            point_row(model, e.body, &e.at, &e.direction, 1.0, &mut l);
+            if let Some(r) = e.reaction {
+                point_row(model, r, &e.at, &e.direction, -1.0, &mut l);
+            }
+            l
+        })
+        .collect()
+}
+
+/// The sensor maps, per sensor.
+fn sensor_rows(model: &Model, n: usize) -> Vec<(SensorKind, Row)> {
+    model
+        .sensors
+        .iter()
+        .map(|s| {
+            let mut h = vec![0.0; n];
+            point_row(model, s.body, &s.at, &s.direction, 1.0, &mut h);
+            (s.kind, Row::from_dense(&h))
+        })
+        .collect()
+}
+
+/// Gravity in each body's frame (zero without gravity).
+fn gravity_local(model: &Model) -> Vec<Vector3<f64>> {
+    let g = model.gravity.unwrap_or_else(Vector3::zeros);
+    model
+        .bodies
+        .iter()
+        .map(|b| b.axes.transpose() * g)
+        .collect()
+}
+
+/// For each parameter, where it is used: in the component rows, the bodies
+/// and the excitations.
+fn usages(model: &Model, components: &[ComponentRow]) -> Vec<Vec<Usage>> {
+    let mut usages = vec![Vec::new(); model.parameters.len()];
+    let mut add = |v: &Value, u: Usage| {
+        if let Value::Param(p) = v {
+            usages[*p].push(u);
+        }
+    };
+    for (i, c) in components.iter().enumerate() {
+        match &c.law {
+            Law::None => {}
+            Law::Linear { k } => add(k, Usage::Stiffness(i)),
+            Law::Power { a, m, .. } => {
+                add(a, Usage::PowerCoefficient(i));
+                add(m, Usage::PowerExponent(i));
+            }
+        }
+        add(&c.damping, Usage::Damping(i));
+    }
+    for (b, body) in model.bodies.iter().enumerate() {
+        add(&body.mass, Usage::Mass(b));
+        for (axis, j) in body.inertia.iter().enumerate() {
+            add(j, Usage::Inertia(b, axis));
+        }
+    }
+    for (e, exc) in model.excitations.iter().enumerate() {
+        for (j, term) in exc.signal.terms.iter().enumerate() {
+            add(&term.amplitude, Usage::Amplitude(e, j));
+        }
+    }
+    usages
 }

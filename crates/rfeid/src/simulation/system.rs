@@ -104,79 +104,11 @@ impl<'a> System<'a> {
         structure: &'a Structure,
         params: &[f64],
     ) -> Result<Self, SimulationError> {
-        if let Some(i) = params.iter().position(|v| !v.is_finite()) {
-            return Err(SimulationError::BadParameter {
-                name: model.parameters[i].name.clone(),
-                value: params[i],
-            });
-        }
+        check_finite(model, params)?;
         let n = structure.n;
-        let mut minv = vec![0.0; n];
-        let mut minv_gravity = vec![0.0; n];
-        for (b, body) in model.bodies.iter().enumerate() {
-            let m = body.mass.eval(params);
-            let j = body.inertia.map(|v| v.eval(params));
-            for (i, &mi) in [m, m, m, j[0], j[1], j[2]].iter().enumerate() {
-                if !(mi > 0.0) {
-                    return Err(SimulationError::NonPositiveInertia {
-                        body: body.name.clone(),
-                        value: mi,
-                    });
-                }
-                minv[6 * b + i] = 1.0 / mi;
-            }
-            for i in 0..3 {
-                minv_gravity[6 * b + i] = structure.gravity_local[b][i];
-            }
-        }
-        let mut k = vec![0.0; n * n];
-        let mut c = vec![0.0; n * n];
-        let mut power = Vec::new();
-        let outer = |mat: &mut [f64], row: &Row, s: f64| {
-            for (oi, ci) in &row.blocks {
-                for (oj, cj) in &row.blocks {
-                    for i in 0..6 {
-                        for j in 0..6 {
-                            mat[(oi + i) * n + oj + j] += s * ci[i] * cj[j];
-                        }
-                    }
-                }
-            }
-        };
-        for comp in &structure.components {
-            let damping = comp.damping.eval(params);
-            if damping != 0.0 {
-                outer(&mut c, &comp.row, damping);
-            }
-            match comp.law {
-                Law::None => {}
-                Law::Linear { k: kv } => outer(&mut k, &comp.row, kv.eval(params)),
-                Law::Power { m, .. } => {
-                    let m = m.eval(params);
-                    if !(m >= 1.0) {
-                        return Err(SimulationError::BadExponent {
-                            element: model.elements[comp.element].name.clone(),
-                            value: m,
-                        });
-                    }
-                    let spring = comp.law.power_spring(params).expect("a power law");
-                    power.push(PowerRow {
-                        row: comp.row.clone(),
-                        a: spring.coef,
-                        m,
-                        kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
-                        pre: Preload::default(),
-                    });
-                }
-            }
-        }
-        let mut a_lin = vec![0.0; n * 2 * n];
-        for i in 0..n {
-            for j in 0..n {
-                a_lin[i * 2 * n + j] = -minv[i] * k[i * n + j];
-                a_lin[i * 2 * n + n + j] = -minv[i] * c[i * n + j];
-            }
-        }
+        let (minv, minv_gravity) = inverse_masses(model, structure, params)?;
+        let ComponentMatrices { k, c, power } = component_matrices(model, structure, params)?;
+        let a_lin = linear_accel(n, &minv, &k, &c);
         let minv_loads: Vec<Vec<f64>> = structure
             .loads
             .iter()
@@ -454,6 +386,124 @@ impl<'a> System<'a> {
         }
         c
     }
+}
+
+/// Refuses a parameter value that is not finite.
+fn check_finite(model: &Model, params: &[f64]) -> Result<(), SimulationError> {
+    if let Some(i) = params.iter().position(|v| !v.is_finite()) {
+        return Err(SimulationError::BadParameter {
+            name: model.parameters[i].name.clone(),
+            value: params[i],
+        });
+    }
+    Ok(())
+}
+
+/// The diagonal of M⁻¹ and the weights' `M⁻¹ × weight` (gravity in each
+/// body's frame on its translations), refusing a mass or moment of inertia
+/// that is not positive.
+fn inverse_masses(
+    model: &Model,
+    structure: &Structure,
+    params: &[f64],
+) -> Result<(Vec<f64>, Vec<f64>), SimulationError> {
+    let n = structure.n;
+    let mut minv = vec![0.0; n];
+    let mut minv_gravity = vec![0.0; n];
+    for (b, body) in model.bodies.iter().enumerate() {
+        let m = body.mass.eval(params);
+        let j = body.inertia.map(|v| v.eval(params));
+        for (i, &mi) in [m, m, m, j[0], j[1], j[2]].iter().enumerate() {
+            if !(mi > 0.0) {
+                return Err(SimulationError::NonPositiveInertia {
+                    body: body.name.clone(),
+                    value: mi,
+                });
+            }
+            minv[6 * b + i] = 1.0 / mi;
+        }
+        for i in 0..3 {
+            minv_gravity[6 * b + i] = structure.gravity_local[b][i];
+        }
+    }
+    Ok((minv, minv_gravity))
+}
+
+/// `mat += s · rowᵀ row`, mat n × n row-major.
+fn add_outer(mat: &mut [f64], n: usize, row: &Row, s: f64) {
+    for (oi, ci) in &row.blocks {
+        for (oj, cj) in &row.blocks {
+            for i in 0..6 {
+                for j in 0..6 {
+                    mat[(oi + i) * n + oj + j] += s * ci[i] * cj[j];
+                }
+            }
+        }
+    }
+}
+
+/// The components' coefficients gathered: linear parts as matrices, power
+/// laws as rows.
+struct ComponentMatrices {
+    /// Linear stiffness K, n × n, row-major.
+    k: Vec<f64>,
+    /// Damping C, n × n, row-major.
+    c: Vec<f64>,
+    /// The power-law rows.
+    power: Vec<PowerRow>,
+}
+
+/// The linear stiffness K and damping C (n × n, row-major) and the
+/// power-law rows, refusing an exponent below 1.
+fn component_matrices(
+    model: &Model,
+    structure: &Structure,
+    params: &[f64],
+) -> Result<ComponentMatrices, SimulationError> {
+    let n = structure.n;
+    let mut k = vec![0.0; n * n];
+    let mut c = vec![0.0; n * n];
+    let mut power = Vec::new();
+    for comp in &structure.components {
+        let damping = comp.damping.eval(params);
+        if damping != 0.0 {
+            add_outer(&mut c, n, &comp.row, damping);
+        }
+        match comp.law {
+            Law::None => {}
+            Law::Linear { k: kv } => add_outer(&mut k, n, &comp.row, kv.eval(params)),
+            Law::Power { m, .. } => {
+                let m = m.eval(params);
+                if !(m >= 1.0) {
+                    return Err(SimulationError::BadExponent {
+                        element: model.elements[comp.element].name.clone(),
+                        value: m,
+                    });
+                }
+                let spring = comp.law.power_spring(params).expect("a power law");
+                power.push(PowerRow {
+                    row: comp.row.clone(),
+                    a: spring.coef,
+                    m,
+                    kinked: !(m.fract() == 0.0 && m % 2.0 == 1.0),
+                    pre: Preload::default(),
+                });
+            }
+        }
+    }
+    Ok(ComponentMatrices { k, c, power })
+}
+
+/// `[−M⁻¹K | −M⁻¹C]`, n × 2n, row-major.
+fn linear_accel(n: usize, minv: &[f64], k: &[f64], c: &[f64]) -> Vec<f64> {
+    let mut a_lin = vec![0.0; n * 2 * n];
+    for i in 0..n {
+        for j in 0..n {
+            a_lin[i * 2 * n + j] = -minv[i] * k[i * n + j];
+            a_lin[i * 2 * n + n + j] = -minv[i] * c[i * n + j];
+        }
+    }
+    a_lin
 }
 
 /// `δ|δ| − δ₀|δ₀|` for `δ = δ₀ + d` without branches: `d (|δ| + |δ₀|)`

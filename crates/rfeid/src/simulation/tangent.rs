@@ -28,7 +28,7 @@ use super::madd::Madd;
 use super::power_law::power_law;
 use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
-use super::structure::{Row, Usage};
+use super::structure::{ComponentRow, Row, Structure, Usage};
 use super::system::System;
 use crate::model::{Law, PowerSpring};
 
@@ -78,88 +78,70 @@ impl Tangent {
     /// Gathers the components and parameters of `sys` that the sensitivities
     /// to the parameters `wrt` need.
     pub fn new(sys: &System<'_>, wrt: &[usize]) -> Tangent {
-        let structure = sys.structure;
-        let n = sys.n;
         if wrt.is_empty() {
-            return Tangent {
-                width: 0,
-                active: Vec::new(),
-                others: Vec::new(),
-                sparse: sys.sparse,
-                component_usages: Vec::new(),
-                component_statics: Vec::new(),
-                component_entries: Vec::new(),
-            };
+            return Tangent::empty(sys.sparse);
         }
-        // Usages per component first, so that the active components come in
-        // component order whatever the order of `wrt`: a column's explicit
-        // terms are then summed in the same order however it is asked for.
-        let mut usages = vec![Vec::new(); structure.components.len()];
-        let mut others = Vec::new();
-        for (col, &p) in wrt.iter().enumerate() {
-            for &usage in &structure.usages[p] {
-                match usage {
-                    Usage::Stiffness(i)
-                    | Usage::Damping(i)
-                    | Usage::PowerCoefficient(i)
-                    | Usage::PowerExponent(i) => usages[i].push((col, usage)),
-                    Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
-                        others.push((col, usage))
-                    }
-                }
-            }
-        }
+        let (usages, others) = usages_by_component(sys.structure, wrt);
         let width = wrt.len().next_multiple_of(4);
-        let statics = |c: &super::structure::ComponentRow, power: Option<PowerSpring>| match power {
-            Some(_) => static_columns(sys, &c.row, wrt.len(), width),
-            None => Vec::new(),
-        };
         if sys.sparse {
-            let component_statics = structure
-                .components
-                .iter()
-                .zip(&sys.comps)
-                .map(|(c, comp)| statics(c, comp.power(&sys.powers).map(|p| p.spring)))
-                .collect();
-            return Tangent {
-                width,
-                active: Vec::new(),
-                others,
-                sparse: true,
-                component_usages: usages,
-                component_statics,
-                component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
-            };
+            return Tangent::sparse(sys, wrt.len(), width, usages, others);
         }
-        let active = structure
-            .components
-            .iter()
-            .zip(usages)
-            .zip(&sys.comps)
-            .filter(|((c, u), _)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
-            .map(|((c, usages), comp)| {
-                let power = c.law.power_spring(&sys.params);
-                let b = c.row.dense(n);
-                Active {
-                    g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
-                    b,
-                    power,
-                    pre: comp
-                        .power(&sys.powers)
-                        .map_or_else(Preload::default, |p| p.pre),
-                    static_columns: statics(c, power),
-                    usages,
-                }
-            })
-            .collect();
         Tangent {
             width,
-            active,
+            active: active_components(sys, wrt.len(), width, usages),
             others,
             sparse: false,
             component_usages: Vec::new(),
             component_statics: Vec::new(),
             component_entries: Vec::new(),
+        }
+    }
+
+    /// The right-hand side of sensitivities to no parameter.
+    fn empty(sparse: bool) -> Tangent {
+        Tangent {
+            width: 0,
+            active: Vec::new(),
+            others: Vec::new(),
+            sparse,
+            component_usages: Vec::new(),
+            component_statics: Vec::new(),
+            component_entries: Vec::new(),
+        }
+    }
+
+    /// The right-hand side for the element-by-element kernel: every
+    /// component row with its usages, static columns and entries.
+    fn sparse(
+        sys: &System<'_>,
+        r: usize,
+        width: usize,
+        usages: Vec<Vec<(usize, Usage)>>,
+        others: Vec<(usize, Usage)>,
+    ) -> Tangent {
+        let component_statics = sys
+            .structure
+            .components
+            .iter()
+            .zip(&sys.comps)
+            .map(|(c, comp)| {
+                component_static_columns(
+                    sys,
+                    c,
+                    comp.power(&sys.powers).map(|p| p.spring),
+                    r,
+                    width,
+                )
+            })
+            .collect();
+        Tangent {
+            width,
+            active: Vec::new(),
+            others,
+            sparse: true,
+            component_usages: usages,
+            component_statics,
+            component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
         }
     }
 
@@ -286,6 +268,81 @@ impl Tangent {
             }
         }
     }
+}
+
+/// Identified parameters acting at one place: (column, usage).
+type ColumnUsages = Vec<(usize, Usage)>;
+
+/// The usages of the parameters `wrt` (by column): per component row, and
+/// the others (masses, inertias, amplitudes).
+///
+/// Usages per component first, so that the active components come in
+/// component order whatever the order of `wrt`: a column's explicit terms
+/// are then summed in the same order however it is asked for.
+fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsages>, ColumnUsages) {
+    let mut usages = vec![Vec::new(); structure.components.len()];
+    let mut others = Vec::new();
+    for (col, &p) in wrt.iter().enumerate() {
+        for &usage in &structure.usages[p] {
+            match usage {
+                Usage::Stiffness(i)
+                | Usage::Damping(i)
+                | Usage::PowerCoefficient(i)
+                | Usage::PowerExponent(i) => usages[i].push((col, usage)),
+                Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
+                    others.push((col, usage))
+                }
+            }
+        }
+    }
+    (usages, others)
+}
+
+/// A component's `B_i ∂q₀/∂x` ([`static_columns`]) if it is a power-law
+/// spring, else empty.
+fn component_static_columns(
+    sys: &System<'_>,
+    c: &ComponentRow,
+    power: Option<PowerSpring>,
+    r: usize,
+    width: usize,
+) -> Vec<f64> {
+    match power {
+        Some(_) => static_columns(sys, &c.row, r, width),
+        None => Vec::new(),
+    }
+}
+
+/// The components the dense kernel's sensitivities need beyond the linear
+/// part: the power-law springs and those holding a parameter of `wrt`.
+fn active_components(
+    sys: &System<'_>,
+    r: usize,
+    width: usize,
+    usages: Vec<Vec<(usize, Usage)>>,
+) -> Vec<Active> {
+    let n = sys.n;
+    sys.structure
+        .components
+        .iter()
+        .zip(usages)
+        .zip(&sys.comps)
+        .filter(|((c, u), _)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
+        .map(|((c, usages), comp)| {
+            let power = c.law.power_spring(&sys.params);
+            let b = c.row.dense(n);
+            Active {
+                g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
+                b,
+                power,
+                pre: comp
+                    .power(&sys.powers)
+                    .map_or_else(Preload::default, |p| p.pre),
+                static_columns: component_static_columns(sys, c, power, r, width),
+                usages,
+            }
+        })
+        .collect()
 }
 
 /// `a · x` for a of even length, in two partial sums.
