@@ -12,7 +12,7 @@
 use crate::cli::MergeArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
-use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::closing::{close, Closing};
 use crate::run::failures::identify_failure;
 use crate::run::inputs::{load, load_data, stepped};
 use crate::run::report::render;
@@ -75,18 +75,9 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         }
         None => None,
     };
-    let closing = Closing {
-        model: &model,
-        result: &result,
-        report,
-        note_report: false,
-        output: Some(&args.output),
-        written_note: WrittenNote::AfterTables,
-        written: args.output.display().to_string(),
-        reference: "nominal",
-        timings: args.timings,
-        epilogue: None,
-    };
+    let mut closing = Closing::of_result(&model, &result, report, &args.output, args.timings);
+    // merge does not note where the report went.
+    closing.note_report = false;
     close(&outputs, closing, ui)
 }
 

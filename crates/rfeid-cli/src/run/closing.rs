@@ -46,6 +46,32 @@ pub struct Closing<'a> {
     pub epilogue: Option<String>,
 }
 
+impl<'a> Closing<'a> {
+    /// The closing of a run that wrote RESULT.json to `output` (`identify`,
+    /// a campaign, `merge`): the note after the tables, the nominal values
+    /// as reference, no epilogue.
+    pub fn of_result(
+        model: &'a Model,
+        result: &'a IdentificationResult,
+        report: Option<(&'a Path, ReportFiles)>,
+        output: &'a Path,
+        timings: bool,
+    ) -> Self {
+        Closing {
+            model,
+            result,
+            report,
+            note_report: true,
+            output: Some(output),
+            written_note: WrittenNote::AfterTables,
+            written: output.display().to_string(),
+            reference: "nominal",
+            timings,
+            epilogue: None,
+        }
+    }
+}
+
 /// Writes the outputs all or nothing, shows the results and picks the exit
 /// status: 0, or 3 for a suspect verdict.
 pub fn close(outputs: &Checked, c: Closing<'_>, ui: &Ui) -> Result<(), Failure> {

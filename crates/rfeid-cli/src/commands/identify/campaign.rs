@@ -3,7 +3,7 @@
 use crate::cli::IdentifyArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
-use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::closing::{close, Closing};
 use crate::run::estimate::simulate_at_estimate;
 use crate::run::experiments::{campaign_data, check_exists};
 use crate::run::failures::{identify_failure, simulation_failure};
@@ -45,18 +45,7 @@ pub fn run(args: &IdentifyArgs, model: &Model, ui: &Ui) -> Result<(), Failure> {
         }
         None => None,
     };
-    let closing = Closing {
-        model,
-        result: &result,
-        report,
-        note_report: true,
-        output: Some(&args.output),
-        written_note: WrittenNote::AfterTables,
-        written: args.output.display().to_string(),
-        reference: "nominal",
-        timings: args.search.timings,
-        epilogue: None,
-    };
+    let closing = Closing::of_result(model, &result, report, &args.output, args.search.timings);
     close(&outputs, closing, ui)
 }
 

@@ -8,7 +8,7 @@ mod shard;
 use crate::cli::{IdentifyArgs, StartArg};
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
-use crate::run::closing::{close, Closing, WrittenNote};
+use crate::run::closing::{close, Closing};
 use crate::run::inputs::{fixed, load, load_data, stepped};
 use crate::run::limits::check_limits;
 use crate::run::report::render;
@@ -102,17 +102,6 @@ fn single(
         }
         None => None,
     };
-    let closing = Closing {
-        model,
-        result: &result,
-        report,
-        note_report: true,
-        output: Some(&args.output),
-        written_note: WrittenNote::AfterTables,
-        written: args.output.display().to_string(),
-        reference: "nominal",
-        timings: args.search.timings,
-        epilogue: None,
-    };
+    let closing = Closing::of_result(model, &result, report, &args.output, args.search.timings);
     close(outputs, closing, ui)
 }
