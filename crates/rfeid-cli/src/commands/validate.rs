@@ -202,7 +202,7 @@ fn check_belongs(
     args: &ValidateArgs,
 ) -> Result<(), Failure> {
     for p in &result.parameters {
-        let column: ColumnName = p.name.parse().expect("infallible");
+        let Ok(column) = p.name.parse::<ColumnName>();
         if model.parameter_index(&column.name).is_none() {
             return Err(Failure::input_msg(format!(
                 "{}: field 'parameters': '{}' is not a parameter of {}: the result belongs to another model",

@@ -223,7 +223,7 @@ impl IdentificationResult {
     ) -> Result<Vec<f64>, String> {
         let mut x = model.nominal();
         for p in &self.parameters {
-            let column: crate::model::ColumnName = p.name.parse().expect("infallible");
+            let Ok(column) = p.name.parse::<crate::model::ColumnName>();
             let i = model.parameter_index(&column.name).ok_or_else(|| {
                 format!("the result's parameter '{}' is not in the model", p.name)
             })?;

@@ -83,10 +83,12 @@ impl Model {
         }
     }
 
-    /// Checks that `value` is finite for the parameter `i`.
-    fn finite_value(&self, i: usize, value: f64) -> Result<(), EditError> {
+    /// The index of the parameter `which` addresses, checked to take the
+    /// finite `value`.
+    fn finite_edit(&self, which: ParameterRef<'_>, value: f64) -> Result<usize, EditError> {
+        let i = self.edited_parameter(which)?;
         if value.is_finite() {
-            Ok(())
+            Ok(i)
         } else {
             Err(EditError::NotFinite {
                 name: self.parameters[i].name.clone(),
@@ -103,8 +105,7 @@ impl Model {
         which: impl Into<ParameterRef<'a>>,
         value: f64,
     ) -> Result<Model, EditError> {
-        let i = self.edited_parameter(which.into())?;
-        self.finite_value(i, value)?;
+        let i = self.finite_edit(which.into(), value)?;
         let p = &mut self.parameters[i];
         p.value = value;
         p.bounds = None;
@@ -119,8 +120,7 @@ impl Model {
         which: impl Into<ParameterRef<'a>>,
         value: f64,
     ) -> Result<Model, EditError> {
-        let i = self.edited_parameter(which.into())?;
-        self.finite_value(i, value)?;
+        let i = self.finite_edit(which.into(), value)?;
         let p = &mut self.parameters[i];
         if let Some((min, max)) = p.bounds {
             if !(min..=max).contains(&value) {
