@@ -78,6 +78,9 @@ pub struct SimulateArgs {
     /// Add Gaussian noise of standard deviation FRAC × RMS of each sensor's signal.
     #[arg(long, value_name = "FRAC")]
     pub noise: Option<f64>,
+    /// Pass the noise through a second-order Butterworth low-pass with its corner at HZ, as a data acquisition system's anti-alias filter leaves it (coloured noise; its standard deviation stays FRAC × RMS). Needs --noise.
+    #[arg(long, value_name = "HZ", requires = "noise")]
+    pub noise_corner: Option<f64>,
     /// Seed of the noise generator.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -170,6 +173,9 @@ pub struct SearchArgs {
     /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance. Default estimated for `identify` (valid standard errors when the sensors' noise levels differ), equal for `demo`.
     #[arg(long, value_enum)]
     pub weights: Option<WeightsArg>,
+    /// How the noise is modelled with estimated weights: an autoregressive model per sensor, its order chosen from the residuals (coloured noise, as anti-alias filters leave it, gets honest standard errors; white noise gets order 0), or white noise (the paper's output error, eq. 12–16).
+    #[arg(long, value_enum, default_value_t = NoiseModelArg::Ar)]
+    pub noise_model: NoiseModelArg,
     /// Worker threads (default: all cores; at most 1024). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
@@ -194,6 +200,15 @@ pub enum MethodArg {
     Lm,
     /// BFGS with finite-difference gradients (eq. 20–25).
     Bfgs,
+}
+
+/// `--noise-model`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum NoiseModelArg {
+    /// An autoregressive model per sensor (order by BIC, at most 64).
+    Ar,
+    /// White noise per sensor.
+    White,
 }
 
 /// `--weights`.

@@ -9,6 +9,10 @@ pub const EXIT_FAILURE: u8 = 1;
 /// The identification ran and its result was written, but its verdict is
 /// suspect (see `rfeid::identification::verdict`).
 pub const EXIT_SUSPECT: u8 = 3;
+/// The identification ran and its result was written, and its verdict is
+/// model error alone: the estimates are the model's best fit, their standard
+/// errors cover the noise only.
+pub const EXIT_MODEL_ERROR: u8 = 4;
 
 /// A failed command: its exit status and what to tell the user.
 pub struct Failure {
@@ -41,6 +45,14 @@ impl Failure {
     pub fn suspect(msg: impl std::fmt::Display) -> Self {
         Failure {
             code: EXIT_SUSPECT,
+            report: miette::miette!("{msg}"),
+        }
+    }
+
+    /// A written result whose verdict is model error alone.
+    pub fn model_error(msg: impl std::fmt::Display) -> Self {
+        Failure {
+            code: EXIT_MODEL_ERROR,
             report: miette::miette!("{msg}"),
         }
     }

@@ -8,6 +8,7 @@ use crate::diagnostics::Failure;
 use crate::outputs::Checked;
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::verdict::Outcome;
 use rfeid::model::Model;
 use std::path::Path;
 
@@ -115,15 +116,23 @@ fn write_outputs(outputs: &Checked, c: &Closing<'_>) -> Result<(), Failure> {
     batch.commit()
 }
 
-/// Exit status 3 for a written result whose verdict is suspect.
+/// Exit status 3 for a written result whose verdict is suspect, 4 for one
+/// whose verdict is model error alone.
 pub fn suspect_status(result: &IdentificationResult, written: &str) -> Result<(), Failure> {
-    match &result.verdict {
-        Some(v) if !v.trustworthy => Err(Failure::suspect(format!(
+    let Some(v) = &result.verdict else {
+        return Ok(());
+    };
+    match v.outcome() {
+        Outcome::Trustworthy => Ok(()),
+        Outcome::ModelError => Err(Failure::model_error(format!(
+            "the model cannot fit these data better (model error, listed above): the estimates \
+             are its best fit, their standard errors cover the noise only; written to {written}"
+        ))),
+        Outcome::Suspect => Err(Failure::suspect(format!(
             "the result is suspect ({} reason{}, listed above); it was written to {written} all the same",
             v.reasons.len(),
             if v.reasons.len() == 1 { "" } else { "s" }
         ))),
-        _ => Ok(()),
     }
 }
 

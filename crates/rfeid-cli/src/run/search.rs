@@ -4,12 +4,12 @@ use super::failures::{identify_failure, simulation_failure};
 use super::limits::{check_limits, start_threads};
 use super::progress::Bars;
 use super::show::steps_note;
-use crate::cli::{MethodArg, SearchArgs, StartArg, WeightsArg};
+use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{
-    identify, IdentifyError, Method, Settings, Start, Weighting,
+    identify, IdentifyError, Method, NoiseModel, Settings, Start, Weighting,
 };
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::constant_sensors;
@@ -158,6 +158,10 @@ pub fn search_settings(a: &SearchArgs, ui: &Ui) -> Result<(Settings, Bars), Fail
         weighting: match a.weights.unwrap_or(DEFAULT_WEIGHTS) {
             WeightsArg::Equal => Weighting::Equal,
             WeightsArg::Estimated => Weighting::EstimatedNoise,
+        },
+        noise_model: match a.noise_model {
+            NoiseModelArg::Ar => NoiseModel::default(),
+            NoiseModelArg::White => NoiseModel::White,
         },
         window: Some(window).filter(|w| *w > 0.0),
         restarts: rfeid::identification::pipeline::DEFAULT_RESTARTS,

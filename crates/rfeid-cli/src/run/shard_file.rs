@@ -9,7 +9,7 @@
 //! tampering), the shard's number, the search settings, the model and data
 //! paths, and J (or the failure) at every finished point.
 use super::search::DEFAULT_WEIGHTS;
-use crate::cli::{MethodArg, SearchArgs, StepArgs, WeightsArg};
+use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StepArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::outputs::Checked;
 use clap::ValueEnum;
@@ -19,6 +19,11 @@ use std::path::{Path, PathBuf};
 
 /// The format tag of a shard file.
 pub const FORMAT: &str = "rfeid-shard-1";
+
+/// `--noise-model` of a shard written before noise models existed.
+fn default_noise_model() -> String {
+    "ar".into()
+}
 
 /// The search settings a shard was computed with (all that changes J or
 /// the local searches; not the thread count).
@@ -32,6 +37,9 @@ pub struct SearchSpec {
     pub method: String,
     /// `--weights`.
     pub weights: String,
+    /// `--noise-model` (absent in shards written before noise models: `ar`).
+    #[serde(default = "default_noise_model")]
+    pub noise_model: String,
     /// `--from`, s.
     pub from: f64,
     /// `--tolerance`.
@@ -56,6 +64,7 @@ impl SearchSpec {
             starts: a.starts,
             method: name(a.method.to_possible_value()),
             weights: name(a.weights.unwrap_or(DEFAULT_WEIGHTS).to_possible_value()),
+            noise_model: name(a.noise_model.to_possible_value()),
             from: a.from,
             tolerance: a.steps.tolerance,
             substeps: a.steps.substeps,
@@ -70,6 +79,7 @@ impl SearchSpec {
             starts: self.starts,
             method: MethodArg::from_str(&self.method, false)?,
             weights: Some(WeightsArg::from_str(&self.weights, false)?),
+            noise_model: NoiseModelArg::from_str(&self.noise_model, false)?,
             threads,
             from: self.from,
             timings,

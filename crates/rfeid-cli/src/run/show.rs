@@ -5,6 +5,7 @@ use crate::diagnostics::Failure;
 use crate::format::{sig, table};
 use crate::outputs::Checked;
 use crate::ui::Ui;
+use rfeid::identification::noise::StdErrorScope;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::model::{Model, Role};
 use rfeid::simulation::StepChoice;
@@ -129,6 +130,10 @@ fn parameter_table(model: &Model, r: &IdentificationResult, reference: &str) -> 
         })
         .collect();
     let diff = format!("vs {reference} %");
+    let std_error = match r.std_errors_cover {
+        StdErrorScope::Noise => "std. error",
+        StdErrorScope::NoiseOnly => "std. error (noise only)",
+    };
     let header = [
         "parameter",
         "unit",
@@ -138,7 +143,7 @@ fn parameter_table(model: &Model, r: &IdentificationResult, reference: &str) -> 
         reference,
         "identified",
         &diff,
-        "std. error",
+        std_error,
     ];
     table(&header, &rows)
 }
@@ -171,6 +176,20 @@ fn write_search(out: &mut String, r: &IdentificationResult) {
     );
     if let Some(steps) = &r.simulation {
         let _ = writeln!(out, "{} (at the estimate)", steps_note(steps));
+    }
+    if !r.noise.is_empty() {
+        let list: Vec<String> = r
+            .noise
+            .iter()
+            .map(|n| {
+                let kind = match n.order {
+                    0 => "white".to_string(),
+                    p => format!("AR({p})"),
+                };
+                format!("{} {kind}, σ {:.3e}", n.sensor, n.innovation_std)
+            })
+            .collect();
+        let _ = writeln!(out, "noise model: {}", list.join("; "));
     }
     for f in &r.failed_starts {
         let _ = writeln!(

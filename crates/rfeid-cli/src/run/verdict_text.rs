@@ -1,7 +1,7 @@
 //! The verdict in words: the fit per sensor, the minima the starts
 //! reached, and every reason for suspicion, with a hint.
 use rfeid::identification::result::IdentificationResult;
-use rfeid::identification::verdict::{Reason, Verdict};
+use rfeid::identification::verdict::{is_fit_reason, Outcome, Reason, Verdict};
 use std::fmt::Write as _;
 
 /// The verdict, with every reason and the fit per sensor.
@@ -14,14 +14,29 @@ pub fn write_verdict(out: &mut String, r: &IdentificationResult) {
         let _ = writeln!(out, "verdict: trustworthy (no bound, minimum, convergence, fit, residual or identifiability check failed)");
         return;
     }
-    let _ = writeln!(
-        out,
-        "verdict: SUSPECT — do not use these estimates before resolving:"
-    );
+    let headline = match v.outcome() {
+        Outcome::ModelError => {
+            "verdict: MODEL ERROR — the model's best fit, with standard errors that cover the noise only:"
+        }
+        _ => "verdict: SUSPECT — do not use these estimates before resolving:",
+    };
+    let _ = writeln!(out, "{headline}");
     for reason in &v.reasons {
         let _ = writeln!(out, "  - {reason}");
     }
-    if v.reasons.iter().any(is_search_reason) {
+    let model_error = v
+        .reasons
+        .iter()
+        .any(|r| matches!(r, Reason::ModelError { .. }));
+    if model_error {
+        let _ = writeln!(
+            out,
+            "hint: the starts agree, so a larger plan will not help: the model lacks something \
+             the data show (a joint law, a mode, a preload, the sensor's placement); the \
+             estimates are the model's best fit, and their standard errors cover the noise only"
+        );
+    }
+    if v.reasons.iter().any(|r| is_search_reason(r, model_error)) {
         let _ = writeln!(
             out,
             "hint: a wrong minimum is the usual cause on wide boxes: a larger plan with more \
@@ -64,15 +79,13 @@ fn write_fits_and_minima(out: &mut String, v: &Verdict) {
 }
 
 /// Whether a reason points at the search (a wrong minimum), which a larger
-/// plan may cure.
-fn is_search_reason(r: &Reason) -> bool {
-    matches!(
-        r,
-        Reason::AtBound { .. }
-            | Reason::DistinctMinima { .. }
-            | Reason::PoorFit { .. }
-            | Reason::NotWhite { .. }
-            | Reason::NoiseMismatch { .. }
-            | Reason::IterationLimit { .. }
-    )
+/// plan may cure; a failed fit check does not when the verdict found model
+/// error.
+fn is_search_reason(r: &Reason, model_error: bool) -> bool {
+    match r {
+        Reason::AtBound { .. } | Reason::DistinctMinima { .. } | Reason::IterationLimit { .. } => {
+            true
+        }
+        _ => !model_error && is_fit_reason(r),
+    }
 }

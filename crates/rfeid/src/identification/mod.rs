@@ -22,6 +22,7 @@ mod fd_gradient;
 mod line_search;
 pub mod lm;
 mod lm_step;
+pub mod noise;
 pub mod output_error;
 pub mod pipeline;
 pub mod plan;

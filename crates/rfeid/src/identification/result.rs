@@ -204,6 +204,14 @@ pub struct IdentificationResult {
     /// RMS error of the simulated signals at the estimate.
     #[serde(default)]
     pub simulation: Option<crate::simulation::StepChoice>,
+    /// Each sensor's noise model at the estimate (empty with equal
+    /// weights, which model no noise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub noise: Vec<super::noise::SensorNoise>,
+    /// What the standard errors cover: `noise`, or `noise_only` when the
+    /// verdict found model error (its bias is not in them).
+    #[serde(default)]
+    pub std_errors_cover: super::noise::StdErrorScope,
     /// The experiments of a campaign (SPEC §5), fitted and validation ones;
     /// empty for a single data file.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

@@ -22,6 +22,9 @@ pub enum Warning {
         /// The lowest J of an end that passes, if a restart found one (the
         /// side minima are then left out of the result).
         found: Option<f64>,
+        /// Whether the restarts stopped because two came back to the lowest
+        /// minimum (the model's best fit).
+        agreed: bool,
     },
     /// Fixed steps per sample whose estimated error at the estimate exceeds
     /// the tolerance.
@@ -59,6 +62,7 @@ impl fmt::Display for Warning {
                 first_cost,
                 restarts,
                 found: Some(best),
+                ..
             } => write!(
                 f,
                 "the local search from the plan ended at J = {first_cost:.6e}, where the fit \
@@ -70,6 +74,19 @@ impl fmt::Display for Warning {
                 first_cost,
                 restarts,
                 found: None,
+                agreed: true,
+            } => write!(
+                f,
+                "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \
+                 the verdict's per-sensor checks; {restarts} automatic restart(s) from the \
+                 next-best distinct plan points came back to the lowest minimum, so the \
+                 restarts stopped: it is the model's best fit"
+            ),
+            Warning::SideMinimum {
+                first_cost,
+                restarts,
+                found: None,
+                agreed: false,
             } => write!(
                 f,
                 "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \

@@ -116,6 +116,8 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         verdict: None,
         simulation: None,
         experiments: Vec::new(),
+        noise: Vec::new(),
+        std_errors_cover: Default::default(),
     }
 }
 

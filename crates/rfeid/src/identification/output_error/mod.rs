@@ -132,9 +132,11 @@ impl<'m> OutputError<'m> {
                     .map(|&(c, split)| if split { c + e } else { c })
                     .collect();
                 let part = Part {
+                    inputs: part::excitation_samples(data.sim.model(), data.first),
                     base: data.sim.model().nominal(),
                     sensor_weights: vec![1.0; n_sensors],
                     sqrt_weights: vec![data.weight.sqrt(); n_sensors],
+                    whitening: vec![Vec::new(); n_sensors],
                     wrt: wrt.clone(),
                     cols,
                     row0,
@@ -204,6 +206,12 @@ impl<'m> OutputError<'m> {
         self.parts[p].data.first
     }
 
+    /// Experiment p's inputs: each excitation's force at the samples used
+    /// (at the model's nominal values).
+    pub fn experiment_inputs(&self, p: usize) -> &[Vec<f64>] {
+        &self.parts[p].inputs
+    }
+
     /// Experiment p's weight w_e.
     pub fn experiment_weight(&self, p: usize) -> f64 {
         self.parts[p].data.weight
@@ -227,6 +235,31 @@ impl<'m> OutputError<'m> {
             .iter()
             .flat_map(|p| p.sensor_weights.iter().copied())
             .collect()
+    }
+
+    /// Sets each sensor's whitening filter a_1 … a_p (empty: none), in
+    /// [`OutputError::weights`]' order: the residuals and the Jacobian rows
+    /// of that sensor are filtered by `A(q)` ([`crate::identification::noise`]).
+    pub fn set_whitening(&mut self, filters: &[Vec<f64>]) {
+        let mut f = filters.iter();
+        for part in &mut self.parts {
+            for w in &mut part.whitening {
+                *w = f.next().expect("one filter per sensor").clone();
+            }
+        }
+    }
+
+    /// Each sensor's whitening filter, in [`OutputError::weights`]' order.
+    pub fn whitening(&self) -> Vec<Vec<f64>> {
+        self.whitening_filters().map(<[f64]>::to_vec).collect()
+    }
+
+    /// Each sensor's whitening filter, borrowed, in
+    /// [`OutputError::weights`]' order.
+    pub fn whitening_filters(&self) -> impl Iterator<Item = &[f64]> + '_ {
+        self.parts
+            .iter()
+            .flat_map(|p| p.whitening.iter().map(Vec::as_slice))
     }
 
     /// Samples used per sensor, in [`OutputError::weights`]' order.
@@ -335,6 +368,27 @@ impl<'m> OutputError<'m> {
                         .zip(&y.sensor(c)[first..])
                         .map(|(a, b)| (a - b) * (a - b))
                         .sum()
+                })
+            })
+            .collect()
+    }
+
+    /// Each sensor's unweighted, unfiltered residuals `g − y` of the
+    /// responses `g` (one per experiment) from the first sample used, in
+    /// [`OutputError::weights`]' order.
+    pub fn sensor_residuals(&self, g: &[Response]) -> Vec<Vec<f64>> {
+        self.parts
+            .iter()
+            .zip(g)
+            .flat_map(|(part, g)| {
+                let y = &part.data.measured;
+                let first = part.data.first;
+                (0..y.n_sensors).map(move |c| {
+                    g.sensor(c)[first..]
+                        .iter()
+                        .zip(&y.sensor(c)[first..])
+                        .map(|(a, b)| a - b)
+                        .collect()
                 })
             })
             .collect()

@@ -2,6 +2,7 @@
 //! Jacobian.
 use super::ExperimentData;
 use crate::identification::box_map::BoxMap;
+use crate::identification::noise::ar::whiten;
 use crate::simulation::{Response, Sensitivities, SimulationError, Workspace};
 use nalgebra::DMatrix;
 
@@ -13,6 +14,9 @@ pub(super) struct Part<'m> {
     pub(super) sensor_weights: Vec<f64>,
     /// √(w_e w_ec) per sensor.
     pub(super) sqrt_weights: Vec<f64>,
+    /// Each sensor's whitening filter a_1 … a_p ([`crate::identification::noise`];
+    /// empty: white noise).
+    pub(super) whitening: Vec<Vec<f64>>,
     /// The identified parameters (model indices) and their columns in u.
     pub(super) wrt: Vec<usize>,
     pub(super) cols: Vec<usize>,
@@ -20,6 +24,25 @@ pub(super) struct Part<'m> {
     pub(super) base: Vec<f64>,
     /// The part's first residual row.
     pub(super) row0: usize,
+    /// Each excitation's force at the samples used, at the model's nominal
+    /// values (for the verdict's residual–input test).
+    pub(super) inputs: Vec<Vec<f64>>,
+}
+
+/// Each excitation's force P(t_k) of `model` at its nominal values, for
+/// the samples from `first`.
+pub(super) fn excitation_samples(model: &crate::model::Model, first: usize) -> Vec<Vec<f64>> {
+    let x = model.nominal();
+    let sampling = model.sampling;
+    model
+        .excitations
+        .iter()
+        .map(|e| {
+            (first..sampling.n_samples())
+                .map(|k| e.signal.at(sampling.time(k), &x))
+                .collect()
+        })
+        .collect()
 }
 
 /// Scratch memory of one experiment's evaluation.
@@ -74,9 +97,11 @@ impl Part<'_> {
             let g = &response.sensor(c)[first..];
             let y = &self.data.measured.sensor(c)[first..];
             let w = self.sqrt_weights[c];
-            for ((ri, gi), yi) in r[c * used..(c + 1) * used].iter_mut().zip(g).zip(y) {
+            let rows = &mut r[c * used..(c + 1) * used];
+            for ((ri, gi), yi) in rows.iter_mut().zip(g).zip(y) {
                 *ri = w * (gi - yi);
             }
+            whiten(&self.whitening[c], rows);
         }
     }
 
@@ -132,6 +157,15 @@ impl Part<'_> {
                 let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
                 for j in 0..p {
                     jac[(row, self.cols[j])] = w * src[j] * ws.dx_du[j];
+                }
+            }
+            // The same fixed filter as the residuals': the filtered
+            // Jacobian is the Jacobian of the filtered residuals.
+            if !self.whitening[c].is_empty() {
+                let (n_rows, start) = (jac.nrows(), row0 + c * used);
+                for &col in &self.cols {
+                    let column = &mut jac.as_mut_slice()[col * n_rows..(col + 1) * n_rows];
+                    whiten(&self.whitening[c], &mut column[start..start + used]);
                 }
             }
         }

@@ -3,7 +3,8 @@
 use super::bounds::Bounds;
 use super::judge::fit_signals;
 use super::plan::PlanRun;
-use super::settings::Settings;
+use super::settings::{Settings, Weighting};
+use crate::identification::noise::{SensorNoise, StdErrorScope};
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::LeastSquares;
 use crate::identification::result::{
@@ -12,7 +13,7 @@ use crate::identification::result::{
 use crate::identification::search::SearchOutcome;
 use crate::identification::tally::Tally;
 use crate::identification::uncertainty::CramerRao;
-use crate::identification::verdict::{identifiability_reason, Verdict};
+use crate::identification::verdict::{identifiability_reason, Reason, Verdict};
 use crate::identification::warning::Warning;
 use crate::model::Role;
 use crate::simulation::{Response, SimulationError};
@@ -109,9 +110,34 @@ pub(super) fn assemble(
         threads: rayon::current_num_threads(),
         source: Default::default(),
         experiments: experiment_summaries(problem, &f.verdict),
+        noise: match (&f.fitted, settings.weighting) {
+            (Ok(g), Weighting::EstimatedNoise) => noise_models(problem, g),
+            _ => Vec::new(),
+        },
+        std_errors_cover: match f
+            .verdict
+            .reasons
+            .iter()
+            .any(|r| matches!(r, Reason::ModelError { .. }))
+        {
+            true => StdErrorScope::NoiseOnly,
+            false => StdErrorScope::Noise,
+        },
         verdict: Some(f.verdict),
         simulation: Some(problem.experiment_simulator(0).steps()),
     }
+}
+
+/// Each sensor's noise model at the fit `g`.
+fn noise_models(problem: &OutputError<'_>, g: &[Response]) -> Vec<SensorNoise> {
+    let names = fit_signals(problem, None).into_iter().map(|s| s.sensor);
+    problem
+        .sensor_residuals(g)
+        .iter()
+        .zip(problem.whitening_filters())
+        .zip(names)
+        .map(|((e, filter), name)| SensorNoise::of(name, e, filter))
+        .collect()
 }
 
 /// Every identified parameter's estimate, with its standard error.

@@ -19,11 +19,13 @@ pub(super) fn fit_passes(problem: &OutputError<'_>, s: &VerdictSettings, u: &[f6
 }
 
 /// Every sensor of every experiment, named `sensor[experiment]` in a
-/// campaign, with its measured and fitted signals from the first sample used.
+/// campaign, with its measured and fitted signals from the first sample
+/// used and its whitening filter.
 pub(super) fn fit_signals<'a>(
     problem: &'a OutputError<'_>,
     fitted: Option<&'a [Response]>,
 ) -> Vec<FitSignal<'a>> {
+    let mut filters = problem.whitening_filters();
     let mut out = Vec::new();
     for p in 0..problem.n_experiments() {
         let model = problem.experiment_simulator(p).model();
@@ -34,6 +36,9 @@ pub(super) fn fit_signals<'a>(
                 sensor: ColumnName::new(&s.name, problem.experiment_name(p)).to_string(),
                 measured: &y.sensor(c)[first..],
                 fitted: fitted.map_or(&[][..], |g| &g[p].sensor(c)[first..]),
+                whitening: filters.next().unwrap_or(&[]),
+                inputs: problem.experiment_inputs(p),
+                sample_rate: model.sampling.sample_rate,
             });
         }
     }

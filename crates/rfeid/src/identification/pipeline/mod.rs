@@ -28,7 +28,9 @@ mod weights;
 
 pub use self::error::{IdentifyError, SearchError};
 pub use self::plan::{evaluate_points, plan, PointOutcome};
-pub use self::settings::{Method, Progress, Settings, Silent, Start, Weighting, DEFAULT_RESTARTS};
+pub use self::settings::{
+    Method, NoiseModel, Progress, Settings, Silent, Start, Weighting, DEFAULT_RESTARTS,
+};
 pub use crate::identification::result::StartFailure;
 
 use self::assemble::{assemble, Found};

@@ -2,8 +2,10 @@
 //! ends where the fit passes the verdict's per-sensor checks, further
 //! searches start from the best remaining plan points (by J) that lie at
 //! least [`DISTINCT`] from every start and end so far, one at a time, until
-//! one passes or the restarts run out. Deterministic: the candidates follow
-//! the plan's ranking.
+//! one passes, the restarts run out, or [`AGREEING`] restarts come back to
+//! the lowest minimum found so far (within the verdict's minima threshold).
+//! Deterministic: the candidates follow the
+//! plan's ranking.
 use super::judge::fit_passes;
 use super::plan::PlanRun;
 use super::searcher::Searcher;
@@ -11,13 +13,22 @@ use super::settings::Start;
 use super::starts::Ends;
 use crate::identification::output_error::OutputError;
 use crate::identification::plan_eval::rank;
+use crate::identification::problem::LeastSquares;
 use crate::identification::result::StartFailure;
+use crate::identification::verdict::minima_threshold;
 use crate::identification::warning::Warning;
 
 /// Plan points closer than this (RMS over the normalised coordinates) to a
 /// start or an end already searched are not restarted from: they would most
 /// likely end in the same minimum.
 const DISTINCT: f64 = 0.1;
+
+/// Restarts that end in the lowest minimum so far (within the verdict's
+/// minima threshold) after which the restarts stop: distinct starts agree
+/// that the fit is the model's best, and the misfit is model error, not a
+/// wrong minimum. An end above it does not count: it says the criterion has
+/// side minima, and a lower one may still be found.
+const AGREEING: usize = 2;
 
 /// Which ends the restarts judged side minima.
 #[derive(Debug, Default)]
@@ -59,6 +70,11 @@ pub(super) fn run(
         .collect();
     visited.extend(ends.searches.iter().map(|e| e.u.clone()));
     let mut tried = 0;
+    // Restarts that came back to the lowest minimum so far: two of them say
+    // the fit is the model's best.
+    let mut agreeing = 0;
+    let r = problem.n_params();
+    let n = problem.n_residuals();
     for idx in rank(&plan.outcomes) {
         let Ok(cost) = plan.outcomes[idx] else { break };
         if tried == s.restarts {
@@ -79,9 +95,17 @@ pub(super) fn run(
             Ok(e) => {
                 visited.push(e.u.clone());
                 let ok = passes(&e.u);
+                let lowest_so_far = lowest(ends.searches.iter().map(|e| e.cost));
+                let level = minima_threshold(lowest_so_far, r, n, s.verdict.minima_level());
+                if e.cost < lowest_so_far - level {
+                    // A lower minimum: it has yet to be confirmed.
+                    agreeing = 0;
+                } else if e.cost <= lowest_so_far + level {
+                    agreeing += 1;
+                }
                 ends.searches.push(e);
                 passed.push(ok);
-                if ok {
+                if ok || agreeing == AGREEING {
                     break;
                 }
             }
@@ -103,6 +127,7 @@ pub(super) fn run(
         first_cost,
         restarts: tried,
         found: found.then_some(best),
+        agreed: !found && agreeing == AGREEING,
     });
     Judged {
         passed: found.then_some(passed),

@@ -142,6 +142,7 @@ fn window_problem<'m>(problem: &OutputError<'_>, short: &'m Model) -> OutputErro
     sim.set_steps(whole.steps());
     let mut window = OutputError::new(sim, truncated, problem.experiment_first(0));
     window.set_weights(&problem.weights());
+    window.set_whitening(&problem.whitening());
     window.count_into(problem);
     window
 }

@@ -2,6 +2,7 @@
 //! may watch while it runs ([`Progress`]).
 use crate::identification::bfgs::BfgsSettings;
 use crate::identification::lm::LmSettings;
+pub use crate::identification::noise::NoiseModel;
 pub use crate::identification::search::Method;
 use crate::identification::uncertainty::UncertaintySettings;
 use crate::identification::verdict::VerdictSettings;
@@ -41,6 +42,10 @@ pub struct Settings {
     pub method: Method,
     /// Sensor weighting.
     pub weighting: Weighting,
+    /// How the noise is modelled when the sensors are weighted by their
+    /// estimated noise ([`Weighting::EstimatedNoise`]; equal weights model
+    /// none): white, or an autoregressive model per sensor (the default).
+    pub noise_model: NoiseModel,
     /// Levenberg–Marquardt settings.
     pub lm: LmSettings,
     /// BFGS settings.

@@ -1,14 +1,21 @@
 //! Stage 3, the weights: each sensor weighted by its noise level estimated
 //! from its residuals ([`Weighting::EstimatedNoise`], eq. 14 with each
-//! sensor's own σ²), at the best end and, when no end passes the fit
-//! checks, before the restarts judge the ends.
+//! sensor's own σ²) and, unless the noise is modelled white, its residuals
+//! prewhitened by an autoregressive noise model
+//! ([`crate::identification::noise`]), at the best end and, when no end
+//! passes the fit checks, before the restarts judge the ends.
 use super::error::IdentifyError;
-use super::judge::fit_passes;
+use super::judge::{fit_passes, fit_signals};
 use super::searcher::Searcher;
 use super::settings::{Start, Weighting};
 use super::starts::Ends;
+use crate::identification::noise::ar::whiten;
+use crate::identification::noise::NoiseModel;
 use crate::identification::output_error::OutputError;
 use crate::identification::search::SearchOutcome;
+use crate::identification::verdict::input_test::InputRegressors;
+use crate::identification::verdict::{fitted_exactly, VerdictSettings};
+use crate::simulation::Response;
 
 /// When no end passes the fit checks and the sensors are weighted by their
 /// noise, the weights are estimated at the best end first, and the other
@@ -44,34 +51,134 @@ pub(super) fn before_restarts(
     Ok(())
 }
 
-/// Sensor weights estimated from the residuals: each sensor weighted by the
-/// inverse of its residual variance at the end of `best`, the search
-/// continued with those weights, until they change by less than 1 % (at
-/// most 5 rounds). Returns the end under the weights `problem` then holds.
+/// Sensor weights and noise models estimated from the residuals: each
+/// sensor's residuals at the end of `best` get a noise model
+/// ([`Settings::noise_model`](super::Settings::noise_model): white, or
+/// autoregressive), the sensor is weighted by the inverse variance of what
+/// its filter leaves, and the search continues with those weights and
+/// filters, until neither changes J by more than 1 % (at most 5 rounds).
+/// Residuals at the level of rounding (every sensor fitted to the verdict's
+/// `exact_fit`: noise-free data) carry no noise to model, and are left
+/// alone. Returns the end under the weighting `problem` then holds.
 pub(super) fn estimate(
     problem: &mut OutputError<'_>,
     searcher: &Searcher<'_>,
     mut best: SearchOutcome,
 ) -> Result<SearchOutcome, IdentifyError> {
+    let s = searcher.settings();
     for _ in 0..5 {
         let fitted = problem
             .simulate_all(&best.u)
             .map_err(IdentifyError::Simulation)?;
-        let weights = noise_weights(&problem.sensor_ssr(&fitted), &problem.weight_samples());
-        let change = weights
-            .iter()
-            .zip(problem.weights())
-            .map(|(a, b)| (a / b - 1.0).abs())
-            .fold(0.0, f64::max);
-        if change < 0.01 {
-            // Keep the weights J was minimised with, so that the
-            // reported criterion and weights belong together.
+        let exact = exact_sensors(problem, &fitted, &s.verdict);
+        if exact.iter().all(|&e| e) {
             break;
         }
-        problem.set_weights(&weights);
+        let update = Update::new(problem, &fitted, &exact, s.noise_model);
+        if !update.changes(problem) {
+            // Keep the weighting J was minimised with, so that the
+            // reported criterion and weighting belong together.
+            break;
+        }
+        problem.set_weights(&update.weights);
+        problem.set_whitening(&update.filters);
         best = searcher.search(problem, &best.u)?;
     }
     Ok(best)
+}
+
+/// Whether each sensor is fitted to the verdict's `exact_fit` at `fitted`.
+fn exact_sensors(problem: &OutputError<'_>, fitted: &[Response], s: &VerdictSettings) -> Vec<bool> {
+    fit_signals(problem, Some(fitted))
+        .iter()
+        .map(|sig| fitted_exactly(sig, s))
+        .collect()
+}
+
+/// A new weighting: each sensor's filter, and its weight from the sum of
+/// squares of what the filter leaves; and that sum under the filter the
+/// problem holds, for [`Update::changes`].
+struct Update {
+    weights: Vec<f64>,
+    filters: Vec<Vec<f64>>,
+    ssr_new: Vec<f64>,
+    ssr_held: Vec<f64>,
+}
+
+impl Update {
+    fn new(
+        problem: &OutputError<'_>,
+        fitted: &[Response],
+        exact: &[bool],
+        model: NoiseModel,
+    ) -> Self {
+        let mut u = Update {
+            weights: Vec::new(),
+            filters: Vec::new(),
+            ssr_new: Vec::new(),
+            ssr_held: Vec::new(),
+        };
+        let signals = fit_signals(problem, Some(fitted));
+        for (sig, &exact) in signals.iter().zip(exact) {
+            if exact {
+                // Rounding, not noise: no filter, and the largest weight.
+                u.filters.push(Vec::new());
+                u.ssr_new.push(0.0);
+                u.ssr_held.push(0.0);
+                continue;
+            }
+            let e: Vec<f64> = sig
+                .fitted
+                .iter()
+                .zip(sig.measured)
+                .map(|(g, y)| g - y)
+                .collect();
+            let filter = model
+                .fit(&noise_part(&e, sig.inputs))
+                .map(|m| m.coefficients)
+                .unwrap_or_default();
+            u.ssr_held.push(filtered_ssr(sig.whitening, &e));
+            u.ssr_new.push(filtered_ssr(&filter, &e));
+            u.filters.push(filter);
+        }
+        u.weights = noise_weights(&u.ssr_new, &problem.weight_samples());
+        u
+    }
+
+    /// Whether the new weighting moves any sensor's weight, or the sum of
+    /// squares its filter leaves, by 1 % or more.
+    fn changes(&self, problem: &OutputError<'_>) -> bool {
+        let weight = self
+            .weights
+            .iter()
+            .zip(problem.weights())
+            .any(|(a, b)| (a / b - 1.0).abs() >= 0.01);
+        let filter = self
+            .ssr_held
+            .iter()
+            .zip(&self.ssr_new)
+            .any(|(held, new)| *new > 0.0 && (held / new - 1.0).abs() >= 0.01);
+        weight || filter
+    }
+}
+
+/// The residuals `e` without the part the inputs explain
+/// ([`InputRegressors::remove`]): the measurement noise is independent of
+/// the excitation, so its model is estimated from what is, and cannot
+/// learn (and whiten away) a misfit that follows the input.
+fn noise_part(e: &[f64], inputs: &[Vec<f64>]) -> Vec<f64> {
+    let mut left = e.to_vec();
+    if let Some(x) = InputRegressors::new(inputs, e.len()) {
+        x.remove(&mut left);
+    }
+    left
+}
+
+/// Σ (A(q) e)² for the filter a_1 … a_p.
+fn filtered_ssr(filter: &[f64], e: &[f64]) -> f64 {
+    let mut w = e.to_vec();
+    whiten(filter, &mut w);
+    w.iter().map(|v| v * v).sum()
 }
 
 /// w_c = n_c / SSR_c, scaled so that the smallest is 1; a sensor fitted

@@ -23,17 +23,29 @@
 //! - **fit** per sensor, as MATLAB's `compare` prints it,
 //!   `100 (1 − ‖y − ŷ‖ / ‖y − mean(y)‖)` % over the samples used; below
 //!   `min_fit_percent` (default 90 %) is poor;
-//! - **whiteness**: the Ljung–Box statistic of each sensor's residuals on
+//! - **whiteness**: the Ljung–Box statistic of what each sensor's noise
+//!   model ([`crate::identification::noise`]) leaves of its residuals, on
 //!   `lags` (default 20) lags, `Q = n (n + 2) Σ_k ρ_k² / (n − k)`, is χ²_lags
 //!   under white residuals; `p < whiteness_level` (default 1e-6) is not
 //!   white;
 //! - **noise level**: white noise of variance σ² has first differences of
 //!   variance 2σ², while a smooth misfit hardly shows in them. The ratio of
-//!   each sensor's residual variance `Σ e² / n` to `Σ (Δe)² / (2 (n − 1))` is
-//!   about 1 (± √(3/n)) for white residuals; above `max_noise_ratio`
-//!   (default 1.5, many standard deviations for records of more than a few
-//!   hundred samples) the residuals hold a systematic part, so s² is far
-//!   above the measurement noise;
+//!   the variance `Σ e² / n` of what the noise model leaves to
+//!   `Σ (Δe)² / (2 (n − 1))` is about 1 (± √(3/n)) for white residuals;
+//!   above `max_noise_ratio` (default 1.5, many standard deviations for
+//!   records of more than a few hundred samples) the residuals hold a
+//!   systematic part, so s² is far above the measurement noise;
+//! - **residuals and input** ([`input_test`]): what the noise model leaves
+//!   must not depend on the excitation; `p < whiteness_level` of the
+//!   regression test says the misfit is in the dynamics. A noise model
+//!   flexible enough to whiten a misfit cannot pass this test, so it is
+//!   what keeps a wrong model suspect on coloured noise;
+//! - **model error**: when the fit fails any of the checks above at the
+//!   lowest minimum and at least two distinct starts ended there (the
+//!   restarts stop once two agree), the misfit is the model's, not the
+//!   search's: [`Reason::ModelError`] says so, with each failing sensor's
+//!   fit and where in frequency its misfit lies. Its standard errors cover
+//!   the noise only: a misfit under a deterministic input is bias;
 //! - **identifiability** (eq. 26–29): correlations beyond the warning
 //!   threshold, standard errors wider than the box, an ill-conditioned or
 //!   singular Fisher matrix.
@@ -41,22 +53,23 @@
 //! A sensor fitted to `exact_fit` (default 1e-6) of its signal's variation,
 //! `‖y − ŷ‖ ≤ exact_fit ‖y − mean(y)‖`, is fitted to the accuracy of the
 //! simulation itself (noise-free data): its residuals are rounding and
-//! integration error, not noise, so the whiteness and noise-level tests are
-//! not applied to it.
+//! integration error, not noise, so the residual tests are not applied to
+//! it.
 //!
-//! Caveat: measured noise that is not white (for instance filtered by an
-//! anti-aliasing filter with a cut-off well below the Nyquist frequency)
-//! makes the whiteness and noise-level tests fire with a correct model. That
-//! is intended: the Cramér–Rao bounds assume white noise, and are too
-//! optimistic then.
+//! Coloured measurement noise (an anti-alias filter's) passes these checks
+//! with a correct model once the noise is modelled (`--noise-model ar`, the
+//! default of `rfeid identify`); with white noise models, it makes the
+//! whiteness and noise-level tests fire, as it should: the Cramér–Rao
+//! bounds of white output error are too optimistic then.
+pub mod input_test;
 mod minima;
 mod reason;
 mod residuals;
 mod settings;
 
-pub use self::minima::cluster_minima;
-pub use self::reason::{Minimum, Reason, SensorCheck, Side, StartEnd};
-pub(crate) use self::residuals::fit_fails;
+pub use self::minima::{cluster_minima, minima_threshold};
+pub use self::reason::{Minimum, Misfit, Reason, SensorCheck, Side, StartEnd};
+pub(crate) use self::residuals::{fit_fails, fitted_exactly};
 pub use self::residuals::{ljung_box, noise_ratio};
 pub use self::settings::VerdictSettings;
 
@@ -84,7 +97,40 @@ pub struct Verdict {
     pub settings: VerdictSettings,
 }
 
+/// What a verdict comes to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    /// No reason applies.
+    Trustworthy,
+    /// Model error and nothing else: the fit fails its checks at a minimum
+    /// distinct starts agree on. The estimates are the model's best fit;
+    /// their standard errors cover the noise only.
+    ModelError,
+    /// Some other reason applies: do not use the estimates before
+    /// resolving it.
+    Suspect,
+}
+
 impl Verdict {
+    /// Trustworthy, model error alone, or suspect.
+    pub fn outcome(&self) -> Outcome {
+        if self.trustworthy {
+            return Outcome::Trustworthy;
+        }
+        let model_error = self
+            .reasons
+            .iter()
+            .any(|r| matches!(r, Reason::ModelError { .. }));
+        let only = self
+            .reasons
+            .iter()
+            .all(|r| matches!(r, Reason::ModelError { .. }) || is_fit_reason(r));
+        match model_error && only {
+            true => Outcome::ModelError,
+            false => Outcome::Suspect,
+        }
+    }
+
     /// The pairs (i, j), i < j, whose correlation is a reason.
     pub fn correlated_pairs(&self) -> Vec<(usize, usize)> {
         self.reasons
@@ -132,6 +178,14 @@ pub struct FitSignal<'a> {
     pub measured: &'a [f64],
     /// Simulated at the estimate, the same samples.
     pub fitted: &'a [f64],
+    /// The whitening filter a_1 … a_p of the sensor's noise model (empty:
+    /// white noise): the residual tests apply to what it leaves.
+    pub whitening: &'a [f64],
+    /// The experiment's inputs (each excitation's force) at the same
+    /// samples, for the residual–input test (empty: not tested).
+    pub inputs: &'a [Vec<f64>],
+    /// The sample rate, Hz (for where in frequency a misfit lies).
+    pub sample_rate: f64,
 }
 
 /// Draws the verdict (see the module documentation).
@@ -178,6 +232,11 @@ pub fn assess(e: &Evidence<'_>, s: &VerdictSettings) -> Verdict {
             Vec::new()
         }
     };
+    if let Some(best) = minima.first().filter(|m| m.starts >= 2) {
+        if let Some(error) = model_error(best, &sensors, &reasons) {
+            reasons.insert(0, error);
+        }
+    }
     match &e.identifiability {
         Ok(warnings) => {
             for w in warnings.iter() {
@@ -197,6 +256,50 @@ pub fn assess(e: &Evidence<'_>, s: &VerdictSettings) -> Verdict {
         correlation_threshold: e.correlation_threshold,
         settings: s.clone(),
     }
+}
+
+/// Whether a reason is a failed check of the fit (fit, whiteness, noise
+/// level, residual–input): a wrong minimum or model error.
+pub fn is_fit_reason(r: &Reason) -> bool {
+    matches!(
+        r,
+        Reason::PoorFit { .. }
+            | Reason::NotWhite { .. }
+            | Reason::NoiseMismatch { .. }
+            | Reason::InputCorrelated { .. }
+    )
+}
+
+/// [`Reason::ModelError`] when the fit fails a check at the lowest minimum
+/// `best`, which several distinct starts reached.
+fn model_error(best: &Minimum, sensors: &[SensorCheck], reasons: &[Reason]) -> Option<Reason> {
+    let failed: Vec<&str> = reasons
+        .iter()
+        .filter_map(|r| match r {
+            Reason::PoorFit { sensor, .. }
+            | Reason::NotWhite { sensor, .. }
+            | Reason::NoiseMismatch { sensor, .. }
+            | Reason::InputCorrelated { sensor, .. } => Some(sensor.as_str()),
+            _ => None,
+        })
+        .collect();
+    if failed.is_empty() {
+        return None;
+    }
+    let sensors = sensors
+        .iter()
+        .filter(|c| failed.contains(&c.sensor.as_str()))
+        .map(|c| Misfit {
+            sensor: c.sensor.clone(),
+            fit_percent: c.fit_percent,
+            band: c.misfit_band,
+        })
+        .collect();
+    Some(Reason::ModelError {
+        starts: best.starts,
+        cost: best.cost,
+        sensors,
+    })
 }
 
 /// An identifiability warning of the Cramér–Rao analysis as a reason, with

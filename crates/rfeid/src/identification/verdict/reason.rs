@@ -46,9 +46,31 @@ pub struct SensorCheck {
     pub p_value: Option<f64>,
     /// Residual variance over the first-difference noise level.
     pub noise_ratio: Option<f64>,
+    /// The residual–input statistic T ([`super::input_test`]), if tested.
+    #[serde(default)]
+    pub input_statistic: Option<f64>,
+    /// Its p-value.
+    #[serde(default)]
+    pub input_p_value: Option<f64>,
+    /// The residuals' spectral peak and band, Hz, when a check failed.
+    #[serde(default)]
+    pub misfit_band: Option<[f64; 3]>,
 }
 
 /// Why a result is suspect.
+/// Where a sensor's misfit lies: its fit and the band of its residuals'
+/// spectrum ([`crate::measurement::spectrum::Spectrum::peak_band`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Misfit {
+    /// The sensor.
+    pub sensor: String,
+    /// Its fit, %.
+    pub fit_percent: Option<f64>,
+    /// The residuals' spectral peak and the band around it where the
+    /// density stays above a tenth of the peak's, Hz.
+    pub band: Option<[f64; 3]>,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Reason {
@@ -110,6 +132,32 @@ pub enum Reason {
         ratio: f64,
         /// The threshold.
         threshold: f64,
+    },
+    /// What the noise model leaves of a sensor's residuals depends on the
+    /// inputs ([`super::input_test`]): the misfit follows the excitation.
+    InputCorrelated {
+        /// The sensor.
+        sensor: String,
+        /// The statistic T.
+        statistic: f64,
+        /// Its degrees of freedom.
+        dof: usize,
+        /// P(χ²_dof ≥ T).
+        p_value: f64,
+        /// The level below which p fails.
+        level: f64,
+    },
+    /// The fit fails the residual checks at a minimum that several distinct
+    /// starts reached: the model's best fit, so the misfit is model error,
+    /// not a wrong minimum.
+    ModelError {
+        /// Distinct starts that ended in the lowest minimum.
+        starts: usize,
+        /// Its J.
+        cost: f64,
+        /// Each sensor whose fit fails a check: its fit and where in
+        /// frequency its misfit lies.
+        sensors: Vec<Misfit>,
     },
     /// Two estimates are correlated beyond the warning threshold.
     StrongCorrelation {
@@ -189,6 +237,45 @@ fn distinct_minima(f: &mut fmt::Formatter<'_>, minima: &[Minimum], threshold: f6
     )
 }
 
+/// [`Reason::ModelError`] in words.
+fn model_error(
+    f: &mut fmt::Formatter<'_>,
+    starts: usize,
+    cost: f64,
+    sensors: &[Misfit],
+) -> fmt::Result {
+    let list: Vec<String> = sensors
+        .iter()
+        .map(|m| {
+            let fit = m
+                .fit_percent
+                .map_or("-".to_string(), |v| format!("{v:.2} %"));
+            match m.band {
+                Some([peak, lo, hi]) => format!(
+                    "{} fit {fit}, misfit largest at {peak:.4} Hz (band {lo:.4}–{hi:.4} Hz)",
+                    m.sensor
+                ),
+                None => format!("{} fit {fit}", m.sensor),
+            }
+        })
+        .collect();
+    write!(
+        f,
+        "model error: {starts} distinct starts reached the same minimum (J = {}), and its fit fails the residual checks ({}); the model cannot fit the data better, so the standard errors cover the noise only, not the model error's bias",
+        fmt_sig(cost),
+        list.join("; ")
+    )
+}
+
+/// A p-value in messages.
+fn fmt_p(p: f64) -> String {
+    if p > 0.0 {
+        format!("p = {p:.1e}")
+    } else {
+        "p < 1e-300".to_string()
+    }
+}
+
 /// J and thresholds in messages: four significant digits.
 fn fmt_sig(v: f64) -> String {
     format!("{v:.3e}")
@@ -219,21 +306,21 @@ impl fmt::Display for Reason {
                 f,
                 "{sensor}'s measured signal is constant: it carries no information to fit"
             ),
-            Reason::NotWhite { sensor, statistic, p_value, lags, level } => {
-                let p = if *p_value > 0.0 {
-                    format!("p = {p_value:.1e}")
-                } else {
-                    "p < 1e-300".to_string()
-                };
-                write!(
-                    f,
-                    "the residuals of {sensor} are not white (Ljung–Box Q = {statistic:.1} on {lags} lags, {p} < {level:e}): a sign of model error or a wrong minimum"
-                )
-            }
+            Reason::NotWhite { sensor, statistic, p_value, lags, level } => write!(
+                f,
+                "what the noise model leaves of {sensor}'s residuals is not white (Ljung–Box Q = {statistic:.1} on {lags} lags, {} < {level:e}): a sign of model error or a wrong minimum",
+                fmt_p(*p_value)
+            ),
             Reason::NoiseMismatch { sensor, ratio, threshold } => write!(
                 f,
                 "the residual variance of {sensor} is {ratio:.2} times the noise level its first differences show (more than {threshold}): a systematic misfit, from model error or a wrong minimum"
             ),
+            Reason::InputCorrelated { sensor, statistic, dof, p_value, level } => write!(
+                f,
+                "the residuals of {sensor} follow the input (T = {statistic:.1} on {dof} degrees of freedom, {} < {level:e}): the misfit is in the dynamics, not in the noise",
+                fmt_p(*p_value)
+            ),
+            Reason::ModelError { starts, cost, sensors } => model_error(f, *starts, *cost, sensors),
             Reason::StrongCorrelation { first_name, second_name, correlation, .. } => write!(
                 f,
                 "{first_name} and {second_name} are correlated ({correlation:+.4}); the data determine mostly a combination of them"

@@ -1,9 +1,12 @@
 //! The per-sensor checks of the residuals: fit, whiteness (Ljung–Box) and
 //! noise level.
+use super::input_test::input_statistic;
 use super::reason::{Reason, SensorCheck};
 use super::settings::VerdictSettings;
 use super::FitSignal;
 use crate::identification::chi_square::chi_square_sf;
+use crate::identification::noise::ar::whiten;
+use crate::measurement::spectrum::welch;
 use crate::measurement::{misfit_and_spread, percent_fit};
 
 /// Every sensor's checks, each failed one pushed to `reasons`.
@@ -15,8 +18,7 @@ pub(super) fn check_sensors(
     let mut checks = Vec::with_capacity(signals.len());
     let mut residual = Vec::new();
     for sig in signals {
-        let (name, y, g) = (&sig.sensor, sig.measured, sig.fitted);
-        checks.push(check_sensor(name, y, g, s, &mut residual, reasons));
+        checks.push(check_sensor(sig, s, &mut residual, reasons));
     }
     checks
 }
@@ -27,24 +29,29 @@ pub(super) fn check_sensors(
 pub(crate) fn fit_fails(signals: &[FitSignal<'_>], s: &VerdictSettings) -> bool {
     let (mut residual, mut reasons) = (Vec::new(), Vec::new());
     signals.iter().any(|sig| {
-        check_sensor("", sig.measured, sig.fitted, s, &mut residual, &mut reasons);
+        check_sensor(sig, s, &mut residual, &mut reasons);
         !reasons.is_empty()
     })
 }
 
-/// The fit, whiteness and noise-level checks of one sensor's measured `y`
-/// and fitted `g`; `residual` is scratch.
+/// Whether the sensor is fitted to `exact_fit` of its signal's variation
+/// (noise-free data: its residuals are rounding and integration error).
+pub(crate) fn fitted_exactly(sig: &FitSignal<'_>, s: &VerdictSettings) -> bool {
+    let (misfit, spread) = misfit_and_spread(sig.measured, sig.fitted);
+    misfit <= s.exact_fit * spread
+}
+
+/// The fit, whiteness and noise-level checks of one sensor's measured and
+/// fitted signals, the residual tests on what its noise model's filter
+/// leaves; `residual` is scratch.
 fn check_sensor(
-    name: &str,
-    y: &[f64],
-    g: &[f64],
+    sig: &FitSignal<'_>,
     s: &VerdictSettings,
     residual: &mut Vec<f64>,
     reasons: &mut Vec<Reason>,
 ) -> SensorCheck {
-    let name = name.to_string();
-    residual.clear();
-    residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
+    let (name, y, g) = (sig.sensor.clone(), sig.measured, sig.fitted);
+    let before = reasons.len();
     let (misfit, spread) = misfit_and_spread(y, g);
     let fit_percent = percent_fit(misfit, spread);
     if fit_percent.is_none_or(|f| f < s.min_fit_percent) {
@@ -55,39 +62,80 @@ fn check_sensor(
         });
     }
     let mut check = SensorCheck {
-        sensor: name.clone(),
+        sensor: name,
         fit_percent,
         ljung_box: None,
         p_value: None,
         noise_ratio: None,
+        input_statistic: None,
+        input_p_value: None,
+        misfit_band: None,
     };
-    let exact = misfit <= s.exact_fit * spread;
-    if !exact {
-        if let Some(q) = ljung_box(residual, s.lags) {
-            let p = chi_square_sf(q, s.lags);
-            (check.ljung_box, check.p_value) = (Some(q), Some(p));
-            if p < s.whiteness_level {
-                reasons.push(Reason::NotWhite {
-                    sensor: name.clone(),
-                    statistic: q,
-                    p_value: p,
-                    lags: s.lags,
-                    level: s.whiteness_level,
-                });
-            }
-        }
-        if let Some(ratio) = noise_ratio(residual) {
-            check.noise_ratio = Some(ratio);
-            if ratio > s.max_noise_ratio {
-                reasons.push(Reason::NoiseMismatch {
-                    sensor: name,
-                    ratio,
-                    threshold: s.max_noise_ratio,
-                });
-            }
-        }
+    if misfit > s.exact_fit * spread {
+        residual.clear();
+        residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
+        whiten(sig.whitening, residual);
+        residual_tests(sig, residual, s, &mut check, reasons);
+    }
+    if reasons.len() > before && sig.sample_rate > 0.0 {
+        residual.clear();
+        residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
+        check.misfit_band = welch(residual, sig.sample_rate, SEGMENT)
+            .and_then(|spectrum| spectrum.peak_band())
+            .map(|(peak, lo, hi)| [peak, lo, hi]);
     }
     check
+}
+
+/// Samples per segment of the residual spectra (a resolution of fs/1024).
+const SEGMENT: usize = 1024;
+
+/// The whiteness, noise-level and input tests on what the noise model
+/// leaves of one sensor's residuals.
+fn residual_tests(
+    sig: &FitSignal<'_>,
+    left: &[f64],
+    s: &VerdictSettings,
+    check: &mut SensorCheck,
+    reasons: &mut Vec<Reason>,
+) {
+    let name = &check.sensor;
+    if let Some(q) = ljung_box(left, s.lags) {
+        let p = chi_square_sf(q, s.lags);
+        (check.ljung_box, check.p_value) = (Some(q), Some(p));
+        if p < s.whiteness_level {
+            reasons.push(Reason::NotWhite {
+                sensor: name.clone(),
+                statistic: q,
+                p_value: p,
+                lags: s.lags,
+                level: s.whiteness_level,
+            });
+        }
+    }
+    if let Some(ratio) = noise_ratio(left) {
+        check.noise_ratio = Some(ratio);
+        if ratio > s.max_noise_ratio {
+            reasons.push(Reason::NoiseMismatch {
+                sensor: name.clone(),
+                ratio,
+                threshold: s.max_noise_ratio,
+            });
+        }
+    }
+    if let Some((t, dof)) = input_statistic(left, sig.inputs) {
+        let p = chi_square_sf(t, dof);
+        (check.input_statistic, check.input_p_value) = (Some(t), Some(p));
+        if p < s.whiteness_level {
+            reasons.push(Reason::InputCorrelated {
+                sensor: name.clone(),
+                statistic: t,
+                dof,
+                p_value: p,
+                level: s.whiteness_level,
+            });
+        }
+    }
 }
 
 /// The Ljung–Box statistic `Q = n (n + 2) Σ_{k=1}^{h} ρ_k² / (n − k)` of

@@ -32,6 +32,11 @@ impl Default for VerdictSettings {
 }
 
 impl VerdictSettings {
+    /// The confidence level that sets when two ends are one minimum.
+    pub fn minima_level(&self) -> f64 {
+        self.minima_level
+    }
+
     /// Distance from a bound, as a fraction of the normalised width, at or
     /// below which an estimate counts as on the bound, in (0, 1).
     pub fn with_bound_distance(mut self, value: f64) -> Result<Self, SettingsError> {
