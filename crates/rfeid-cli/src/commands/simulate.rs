@@ -8,7 +8,7 @@ use crate::run::inputs::{apply_sets, load, stepped};
 use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv_to;
-use rfeid::measurement::{add_noise, check_noise, rms, to_timeseries};
+use rfeid::measurement::{add_filtered_noise, add_noise, check_noise, rms, to_timeseries};
 use rfeid::model::Model;
 use rfeid::simulation::{Simulator, Workspace};
 
@@ -30,6 +30,13 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
             )));
         }
     }
+    if let Some(c) = args.noise_corner {
+        if !(c > 0.0 && c.is_finite()) {
+            return Err(Failure::input_msg(format!(
+                "--noise-corner {c}: must be a positive frequency in Hz"
+            )));
+        }
+    }
     let sim = Simulator::choose(&model, &params)
         .map_err(|e| simulation_failure("choosing the integrator's steps", e))?;
     let steps = sim.steps();
@@ -41,7 +48,13 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(f) = args.noise {
         check_noise(&out, f)
             .map_err(|e| Failure::input_msg(format!("--noise: {}", noise_sensor(&model, e))))?;
-        add_noise(&mut out, f, args.seed);
+        match args.noise_corner {
+            Some(corner) => {
+                let rate = model.sampling.sample_rate;
+                add_filtered_noise(&mut out, f, corner, rate, args.seed)
+            }
+            None => add_noise(&mut out, f, args.seed),
+        }
     }
     let series = to_timeseries(&model, &out);
     let mut csv = Vec::new();

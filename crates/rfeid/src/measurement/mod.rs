@@ -1,5 +1,10 @@
 //! Measured signals: matching a data file to the model's sensors and
 //! sampling (eq. 10, 15), and adding seeded measurement noise.
+mod coloured;
+pub mod spectrum;
+
+pub use coloured::add_filtered_noise;
+
 use crate::io::timeseries::TimeSeries;
 use crate::model::{Model, Sampling};
 use crate::simulation::Response;

@@ -2,8 +2,10 @@
 use super::fmt::{minus, seconds, sig, unit};
 use super::svg::escape;
 use super::{model_summary, Figure, ReportInput, SECTIONS};
+use crate::identification::noise::StdErrorScope;
 use crate::identification::result::{IdentificationResult, ParameterEstimate};
 use crate::identification::search::Method;
+use crate::identification::verdict::Outcome;
 use std::fmt::Write;
 
 const CSS: &str = "\
@@ -114,13 +116,18 @@ fn verdict(out: &mut String, r: &IdentificationResult) {
              fit, residuals or identifiability found a reason to doubt this result.</div>\n",
         ),
         Some(v) => {
-            let _ = write!(
-                out,
-                "<div class=\"verdict bad\">Suspect: do not use these estimates before resolving \
-                 {} reason{}:\n<ul>\n",
-                v.reasons.len(),
-                if v.reasons.len() == 1 { "" } else { "s" }
-            );
+            let headline = match v.outcome() {
+                Outcome::ModelError => "Model error: these estimates are the model's best fit, \
+                                        with standard errors that cover the noise only; the \
+                                        model lacks something the data show"
+                    .to_string(),
+                _ => format!(
+                    "Suspect: do not use these estimates before resolving {} reason{}",
+                    v.reasons.len(),
+                    if v.reasons.len() == 1 { "" } else { "s" }
+                ),
+            };
+            let _ = write!(out, "<div class=\"verdict bad\">{headline}:\n<ul>\n");
             for reason in &v.reasons {
                 let _ = writeln!(out, "<li>{}</li>", escape(&reason.to_string()));
             }
@@ -211,6 +218,7 @@ fn summary_rows(input: &ReportInput) -> Vec<(&'static str, String)> {
             sensor_fits_text(r),
         ),
         ("minima reached by the starts", minima_text(r)),
+        ("noise model per sensor", noise_text(r)),
         ("method", method_text(r)),
         ("integrator", integrator_text(r)),
         (
@@ -283,6 +291,22 @@ fn experiments_text(r: &IdentificationResult) -> String {
         })
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+/// Each sensor's noise model: white or AR(p), with the innovations'
+/// standard deviation (empty with equal weights).
+fn noise_text(r: &IdentificationResult) -> String {
+    r.noise
+        .iter()
+        .map(|n| {
+            let kind = match n.order {
+                0 => "white".to_string(),
+                p => format!("AR({p})"),
+            };
+            format!("{}: {kind}, σ {}", n.sensor, sig(n.innovation_std, 3))
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The verdict's fit per sensor (empty without a verdict).
@@ -425,7 +449,10 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
         "scale",
         "nominal",
         "estimate",
-        "standard error",
+        match r.std_errors_cover {
+            StdErrorScope::Noise => "standard error",
+            StdErrorScope::NoiseOnly => "standard error (noise only)",
+        },
         "s.e. / estimate",
     ];
     if input.reference.is_some() {
@@ -472,8 +499,9 @@ fn parameters(out: &mut String, input: &ReportInput, figs: &[Figure]) {
     out.push_str(&table(&header, &rows, &numeric, &flags));
     out.push_str(
         "<p class=\"small\">Values in each parameter's unit from the model file (SI where none \
-         is given). Standard errors are Cramér–Rao bounds (eq. 26), valid for white Gaussian \
-         noise and a correct model. Highlighted rows: standard error wider than the box. \
+         is given). Standard errors are Cramér–Rao bounds (eq. 26) under each sensor's noise \
+         model (white, or autoregressive: eq. 26–29 on the prewhitened criterion), valid for a \
+         correct model; under model error they cover the noise only. Highlighted rows: standard error wider than the box. \
          Scale: how the plan and the local search spread over the box (log: equal steps are \
          equal ratios).</p>\n",
     );
