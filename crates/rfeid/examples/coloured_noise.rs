@@ -7,7 +7,8 @@
 //! cargo run --release -p rfeid --example coloured_noise -- [--seeds 10] [--corners 500,1000,2000] [--noise 0.01,0.02,0.03] [--white]
 //! ```
 //!
-//! The cases are those of `tests/coloured_cases` (identify's defaults);
+//! The cases are those of `tests/coloured_cases` (identify's defaults),
+//! each with its own noise stream (seed, level and corner);
 //! `--white` models the noise as white (`--noise-model white`), for
 //! comparison. A corner at or above 5000 Hz (the Nyquist frequency) adds
 //! white noise.
@@ -47,10 +48,12 @@ fn main() {
     }
     println!("corner Hz  noise  seed  RMS z  worst z  AR orders       verdict      s");
     let (mut all, mut trusted, mut cases) = (Vec::new(), 0, 0);
-    for &corner in &corners {
-        for &noise in &noises {
+    for (i, &corner) in corners.iter().enumerate() {
+        for (j, &noise) in noises.iter().enumerate() {
             for seed in 1..=seeds {
-                let data = coloured_data(&model, noise, corner, seed);
+                // Every case its own noise: the levels are not one record scaled.
+                let stream = seed + 1000 * (j as u64 + 1) + 1_000_000 * (i as u64 + 1);
+                let data = coloured_data(&model, noise, corner, stream);
                 let t = Instant::now();
                 let r = run(&model, data, &settings);
                 let z = z_scores(&r);

@@ -21,6 +21,7 @@
 //! rows, so the residuals do not depend on the number of threads. A data file
 //! on its own is a campaign of one experiment.
 use super::box_map::BoxMap;
+use super::noise::ar::Whitener;
 use super::problem::LeastSquares;
 use super::tally::{Counter, Tally};
 use crate::simulation::{Response, SimulationError, Simulator};
@@ -136,7 +137,7 @@ impl<'m> OutputError<'m> {
                     base: data.sim.model().nominal(),
                     sensor_weights: vec![1.0; n_sensors],
                     sqrt_weights: vec![data.weight.sqrt(); n_sensors],
-                    whitening: vec![Vec::new(); n_sensors],
+                    whitening: vec![Whitener::default(); n_sensors],
                     wrt: wrt.clone(),
                     cols,
                     row0,
@@ -244,7 +245,7 @@ impl<'m> OutputError<'m> {
         let mut f = filters.iter();
         for part in &mut self.parts {
             for w in &mut part.whitening {
-                *w = f.next().expect("one filter per sensor").clone();
+                *w = Whitener::new(f.next().expect("one filter per sensor"));
             }
         }
     }
@@ -259,7 +260,7 @@ impl<'m> OutputError<'m> {
     pub fn whitening_filters(&self) -> impl Iterator<Item = &[f64]> + '_ {
         self.parts
             .iter()
-            .flat_map(|p| p.whitening.iter().map(Vec::as_slice))
+            .flat_map(|p| p.whitening.iter().map(Whitener::coefficients))
     }
 
     /// Samples used per sensor, in [`OutputError::weights`]' order.

@@ -2,7 +2,7 @@
 //! Jacobian.
 use super::ExperimentData;
 use crate::identification::box_map::BoxMap;
-use crate::identification::noise::ar::whiten;
+use crate::identification::noise::ar::Whitener;
 use crate::simulation::{Response, Sensitivities, SimulationError, Workspace};
 use nalgebra::DMatrix;
 
@@ -14,9 +14,9 @@ pub(super) struct Part<'m> {
     pub(super) sensor_weights: Vec<f64>,
     /// √(w_e w_ec) per sensor.
     pub(super) sqrt_weights: Vec<f64>,
-    /// Each sensor's whitening filter a_1 … a_p ([`crate::identification::noise`];
-    /// empty: white noise).
-    pub(super) whitening: Vec<Vec<f64>>,
+    /// Each sensor's whitening filter ([`crate::identification::noise`];
+    /// no coefficients: white noise).
+    pub(super) whitening: Vec<Whitener>,
     /// The identified parameters (model indices) and their columns in u.
     pub(super) wrt: Vec<usize>,
     pub(super) cols: Vec<usize>,
@@ -101,7 +101,7 @@ impl Part<'_> {
             for ((ri, gi), yi) in rows.iter_mut().zip(g).zip(y) {
                 *ri = w * (gi - yi);
             }
-            whiten(&self.whitening[c], rows);
+            self.whitening[c].apply(rows);
         }
     }
 
@@ -161,11 +161,11 @@ impl Part<'_> {
             }
             // The same fixed filter as the residuals': the filtered
             // Jacobian is the Jacobian of the filtered residuals.
-            if !self.whitening[c].is_empty() {
+            if !self.whitening[c].coefficients().is_empty() {
                 let (n_rows, start) = (jac.nrows(), row0 + c * used);
                 for &col in &self.cols {
                     let column = &mut jac.as_mut_slice()[col * n_rows..(col + 1) * n_rows];
-                    whiten(&self.whitening[c], &mut column[start..start + used]);
+                    self.whitening[c].apply(&mut column[start..start + used]);
                 }
             }
         }
