@@ -1,8 +1,9 @@
 //! MAT-files without a time axis (no `time`, `t`, `sample_rate` or `fs`
 //! variable), as the Silverbox benchmark's: the samples are taken on the
-//! model's grid from t = 0, with a note; a variable that looks like a time
-//! axis under another name makes the instants ambiguous and is an error
-//! naming the file and the variable.
+//! model's grid from t = 0, with a note, for measured data and for `table`
+//! excitation signals alike; a variable that looks like a time axis under
+//! another name makes the instants ambiguous and is an error naming the file
+//! and the variable.
 mod common;
 mod import_common;
 
@@ -14,7 +15,7 @@ use rfeid::model::{DataSource, Model};
 use std::path::{Path, PathBuf};
 
 /// A single oscillator sampled at 1 kHz for `samples` samples, with a
-/// displacement sensor `x` and the force `signal`.
+/// displacement sensor `x` and a `table` force from `signal`.
 fn model_text(samples: usize, signal: &str) -> String {
     format!(
         r#"
@@ -57,6 +58,16 @@ fn folder(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rfeid-no-time-{}-{test}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch dir");
     dir
+}
+
+/// A force that starts and ends at 0: n samples of a windowed sine.
+fn force(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|k| {
+            let s = k as f64 / (n - 1) as f64;
+            100.0 * (std::f64::consts::PI * s).sin() * (40.0 * s).sin()
+        })
+        .collect()
 }
 
 fn load(dir: &Path, samples: usize, signal: &str) -> Model {
@@ -138,3 +149,121 @@ fn a_vector_that_looks_like_a_time_axis_under_another_name_is_an_error() {
     );
 }
 
+#[test]
+fn a_table_reads_a_mat_variable_like_the_same_csv_column() {
+    let dir = folder("table");
+    let n = 200;
+    let f = force(n);
+    let mut csv = String::from("time,push\n");
+    for (k, v) in f.iter().enumerate() {
+        csv += &format!("{:?},{v:?}\n", k as f64 / 1000.0);
+    }
+    std::fs::write(dir.join("force.csv"), csv).unwrap();
+    let from_csv = load(
+        &dir,
+        n,
+        r#"{ type = "table", file = "force.csv", column = "push", amplitude = 2.0 }"#,
+    );
+    // Without a time axis: on the model's grid, with a note naming the file.
+    std::fs::write(dir.join("force.mat"), mat_bytes(&[("push", &f)])).unwrap();
+    let signal = r#"{ type = "table", file = "force.mat", variable = "push", amplitude = 2.0 }"#;
+    let from_mat = load(&dir, n, signal);
+    assert_eq!(from_mat.notes.len(), 1, "{:?}", from_mat.notes);
+    assert!(
+        from_mat.notes[0].contains("force.mat") && from_mat.notes[0].contains("no time axis"),
+        "{:?}",
+        from_mat.notes
+    );
+    assert!(from_csv.notes.is_empty());
+    assert_eq!(from_mat.files, vec![dir.join("force.mat")]);
+    let a = common::simulate_nominal(&from_csv, None);
+    let b = common::simulate_nominal(&from_mat, None);
+    assert_eq!(bits(a.sensor(0)), bits(b.sensor(0)));
+    // With a time vector: that axis, and no note.
+    let t: Vec<f64> = (0..n).map(|k| k as f64 / 1000.0).collect();
+    std::fs::write(dir.join("force.mat"), mat_bytes(&[("t", &t), ("push", &f)])).unwrap();
+    let timed = load(&dir, n, signal);
+    assert!(timed.notes.is_empty(), "{:?}", timed.notes);
+    let c = common::simulate_nominal(&timed, None);
+    assert_eq!(bits(a.sensor(0)), bits(c.sensor(0)));
+}
+
+/// Loads a model whose table reads `force.mat` with `signal`, expecting an
+/// error; returns its message.
+fn table_error(dir: &Path, signal: &str) -> String {
+    let path = dir.join("model.toml");
+    std::fs::write(&path, model_text(200, signal)).unwrap();
+    load_model(&path).unwrap_err().to_string()
+}
+
+#[test]
+fn table_errors_name_the_file_and_the_variable() {
+    let dir = folder("table-errors");
+    let f = force(200);
+    let ms: Vec<f64> = (0..200).map(|k| k as f64).collect();
+    std::fs::write(dir.join("force.mat"), mat_bytes(&[("push", &f)])).unwrap();
+    // A variable the file does not hold: the field, the file and the variables.
+    let msg = table_error(
+        &dir,
+        r#"{ type = "table", file = "force.mat", variable = "pull" }"#,
+    );
+    assert!(
+        msg.contains("signal.variable")
+            && msg.contains("force.mat")
+            && msg.contains("no variable 'pull' (variables: push)"),
+        "{msg}"
+    );
+    // `column` names a CSV column, not a MAT-file's variable.
+    let msg = table_error(
+        &dir,
+        r#"{ type = "table", file = "force.mat", column = "push" }"#,
+    );
+    assert!(
+        msg.contains("signal.column") && msg.contains("write variable = \"…\""),
+        "{msg}"
+    );
+    // A NaN sample.
+    let mut bad = f.clone();
+    bad[7] = f64::NAN;
+    std::fs::write(dir.join("force.mat"), mat_bytes(&[("push", &bad)])).unwrap();
+    let msg = table_error(
+        &dir,
+        r#"{ type = "table", file = "force.mat", variable = "push" }"#,
+    );
+    assert!(
+        msg.contains("force.mat: variable 'push', sample 7 is NaN, not a finite number"),
+        "{msg}"
+    );
+    // A time axis under another name: ambiguous.
+    std::fs::write(
+        dir.join("force.mat"),
+        mat_bytes(&[("push", &f), ("stamp", &ms)]),
+    )
+    .unwrap();
+    let msg = table_error(
+        &dir,
+        r#"{ type = "table", file = "force.mat", variable = "push" }"#,
+    );
+    assert!(
+        msg.contains("signal.file")
+            && msg.contains("force.mat")
+            && msg.contains("variable 'stamp' increases like a time axis"),
+        "{msg}"
+    );
+    // A time vector in another unit (µs read as s): the table stops inside
+    // the simulated time.
+    let us: Vec<f64> = ms.iter().map(|k| k * 1e-6).collect();
+    std::fs::write(
+        dir.join("force.mat"),
+        mat_bytes(&[("push", &f), ("time", &us)]),
+    )
+    .unwrap();
+    let msg = table_error(
+        &dir,
+        r#"{ type = "table", file = "force.mat", variable = "push" }"#,
+    );
+    assert!(
+        msg.contains("force.mat: variable 'push': the table spans"),
+        "{msg}"
+    );
+}

@@ -132,12 +132,12 @@ fn allowed_keys(kind: &str) -> &'static [&'static str] {
         "multisine" => &["components"],
         "chirp" => &["amplitude", "f0", "f1", "duration"],
         "impulse" => &["amplitude", "t0", "width"],
-        _ => &["amplitude", "file", "column"],
+        _ => &["amplitude", "file", "column", "variable"],
     }
 }
 
 /// Every key a signal can have, with its span when it is given.
-fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 11] {
+fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 12] {
     [
         ("amplitude", rs.amplitude.as_ref().map(|v| v.span())),
         ("frequency", rs.frequency.as_ref().map(|v| v.span())),
@@ -150,6 +150,7 @@ fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 11] {
         ("width", rs.width.as_ref().map(|v| v.span())),
         ("file", rs.file.as_ref().map(|v| v.span())),
         ("column", rs.column.as_ref().map(|v| v.span())),
+        ("variable", rs.variable.as_ref().map(|v| v.span())),
     ]
 }
 
