@@ -29,6 +29,9 @@ pub enum Shape {
         /// Width w, s.
         width: f64,
     },
+    /// 1 for `t ≥ 0` (a steady load: a force offset, a weight not modelled
+    /// as gravity).
+    Constant,
     /// Samples linearly interpolated; 0 outside the table.
     Table {
         /// Strictly increasing instants, s.
@@ -57,6 +60,7 @@ impl Shape {
                     0.0
                 }
             }
+            Shape::Constant => f64::from(u8::from(t >= 0.0)),
             Shape::Table { times, values } => interpolate(times, values, t),
         }
     }
@@ -93,6 +97,11 @@ impl Shape {
                     false => 0.0,
                 }
             }
+            // It starts at t = 0, where a run starts from rest.
+            Shape::Constant => match before {
+                true => f64::from(u8::from(t > 0.0)),
+                false => self.at(t),
+            },
             // Continuous: a sine, and a half-sine pulse (zero at both ends).
             Shape::Sine { .. } | Shape::Impulse { .. } => self.at(t),
         }
@@ -106,6 +115,7 @@ impl Shape {
             Shape::Sine { .. } => Vec::new(),
             Shape::Chirp { duration, .. } => vec![0.0, *duration],
             Shape::Impulse { t0, width } => vec![*t0, t0 + width],
+            Shape::Constant => vec![0.0],
             Shape::Table { times, .. } => times.clone(),
         }
     }
@@ -204,6 +214,15 @@ mod tests {
         assert_eq!(s.at(2.0), 0.0);
         assert_eq!(s.at(3.0), -2.0);
         assert_eq!(s.at(3.5), 0.0);
+    }
+
+    #[test]
+    fn a_constant_is_one_from_t_0_on() {
+        let c = Shape::Constant;
+        assert_eq!((c.at(-1e-9), c.at(0.0), c.at(2.5)), (0.0, 1.0, 1.0));
+        assert_eq!((c.at_side(0.0, true), c.at_side(0.0, false)), (0.0, 1.0));
+        assert_eq!(c.at_side(1.0, true), 1.0);
+        assert_eq!(c.breakpoints(), vec![0.0]);
     }
 
     #[test]
