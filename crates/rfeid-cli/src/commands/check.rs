@@ -8,7 +8,7 @@ use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
 
 /// Runs the command.
 pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
-    let model = load(&args.model)?;
+    let model = load(&args.model, ui)?;
     if ui.json {
         return ui.print_json(&json_summary(&model));
     }

@@ -36,7 +36,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     check_together(&args, &shards)?;
     let model_path = resolve(&first.model, first_path);
     let data_path = resolve(&first.data, first_path);
-    let model = load(&model_path)?;
+    let model = load(&model_path, ui)?;
     let outputs = check_outputs(&args, &model, &model_path, &data_path)?;
     json_conflict(ui, &outputs)?;
     let hash = run_hash(&model_path, &model, &data_path, &first.search)?;

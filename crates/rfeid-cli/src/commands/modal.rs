@@ -13,7 +13,7 @@ use rfeid::simulation::Simulator;
 
 /// Runs the command.
 pub fn run(args: ModalArgs, ui: &Ui) -> Result<(), Failure> {
-    let model = load(&args.model)?;
+    let model = load(&args.model, ui)?;
     let mut plan = Plan::new();
     plan.input(&args.model);
     for f in &model.files {

@@ -65,7 +65,7 @@ fn campaign(
     mut plan: Plan,
     ui: &Ui,
 ) -> Result<(), Failure> {
-    let model = fixed(load(model_path)?, &result.source.set)?;
+    let model = fixed(load(model_path, ui)?, &result.source.set)?;
     plan.input(model_path);
     for f in model
         .files
@@ -104,7 +104,7 @@ fn rebuild(
                 .model
                 .as_deref()
                 .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
-            let model = fixed(load(&resolve(base, model_path))?, &result.source.set)?;
+            let model = fixed(load(&resolve(base, model_path), ui)?, &result.source.set)?;
             plan.input(&resolve(base, model_path))
                 .input(&resolve(base, data));
             for f in &model.files {

@@ -14,7 +14,7 @@ use rfeid::simulation::{Simulator, Workspace};
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
-    let mut model = load(&args.model)?;
+    let mut model = load(&args.model, ui)?;
     if let Some(name) = &args.experiment {
         model = experiment_model(&model, &args.model, name)?;
     }

@@ -44,7 +44,7 @@ struct Fits {
 /// Runs the command.
 pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     let result = read_result(&args.result)?;
-    let model = fixed(load(&args.model)?, &result.source.set)?;
+    let model = fixed(load(&args.model, ui)?, &result.source.set)?;
     check_belongs(&model, &result, &args)?;
     if args.report.is_some() && !result.experiments.is_empty() {
         return Err(Failure::input_msg(format!(

@@ -12,9 +12,14 @@ use rfeid::simulation::{Response, MAX_SUBSTEPS};
 use rfeid::units::parse_quantity;
 use std::path::Path;
 
-/// Loads and validates a model file.
-pub fn load(path: &Path) -> Result<Model, Failure> {
-    load_model(path).map_err(model_error)
+/// Loads and validates a model file; the reading's notes (a signal
+/// table's time axis taken on the model's grid) go to the terminal.
+pub fn load(path: &Path, ui: &Ui) -> Result<Model, Failure> {
+    let model = load_model(path).map_err(model_error)?;
+    for note in &model.notes {
+        ui.note(format!("note: {note}"));
+    }
+    Ok(model)
 }
 
 /// Reads the measured data of `model`'s sensors from `path` on the model's

@@ -387,6 +387,9 @@ pub struct Model {
     pub gravity: Option<Vector3<f64>>,
     /// Files the model file read besides itself (signal tables), as opened.
     pub files: Vec<std::path::PathBuf>,
+    /// Notes for the user from reading the model file (a signal table's
+    /// time axis taken on the model's grid), each naming its file.
+    pub notes: Vec<String>,
     /// The tests of a campaign (SPEC §5); empty for a model fitted to one
     /// data file.
     pub experiments: Vec<Experiment>,

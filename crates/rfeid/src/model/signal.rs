@@ -29,6 +29,9 @@ pub enum Shape {
         /// Width w, s.
         width: f64,
     },
+    /// 1 for `t ≥ 0` (a steady load: a force offset, a weight not modelled
+    /// as gravity).
+    Constant,
     /// Samples linearly interpolated; 0 outside the table.
     Table {
         /// Strictly increasing instants, s.
@@ -57,6 +60,7 @@ impl Shape {
                     0.0
                 }
             }
+            Shape::Constant => f64::from(u8::from(t >= 0.0)),
             Shape::Table { times, values } => interpolate(times, values, t),
         }
     }
@@ -93,6 +97,11 @@ impl Shape {
                     false => 0.0,
                 }
             }
+            // It starts at t = 0, where a run starts from rest.
+            Shape::Constant => match before {
+                true => f64::from(u8::from(t > 0.0)),
+                false => self.at(t),
+            },
             // Continuous: a sine, and a half-sine pulse (zero at both ends).
             Shape::Sine { .. } | Shape::Impulse { .. } => self.at(t),
         }
@@ -106,6 +115,7 @@ impl Shape {
             Shape::Sine { .. } => Vec::new(),
             Shape::Chirp { duration, .. } => vec![0.0, *duration],
             Shape::Impulse { t0, width } => vec![*t0, t0 + width],
+            Shape::Constant => vec![0.0],
             Shape::Table { times, .. } => times.clone(),
         }
     }
@@ -117,7 +127,7 @@ fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
     if n == 0 || t < times[0] || t > times[n - 1] {
         return 0.0;
     }
-    let j = times.partition_point(|&x| x <= t);
+    let j = knot_after(times, t);
     if j == 0 {
         return values[0];
     }
@@ -127,6 +137,29 @@ fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
     let (t0, t1) = (times[j - 1], times[j]);
     let w = (t - t0) / (t1 - t0);
     values[j - 1] + w * (values[j] - values[j - 1])
+}
+
+/// The first index j with `times[j] > t` (as `partition_point`), in O(1)
+/// on an evenly spaced table (a record of samples, such as a measured force
+/// of 10⁵ samples, looked up at every stage of every step): j is guessed
+/// from the first and last instants and checked against its neighbours,
+/// else found by bisection. The same j either way, so the same force.
+fn knot_after(times: &[f64], t: f64) -> usize {
+    let n = times.len();
+    if n >= 2 {
+        let (first, last) = (times[0], times[n - 1]);
+        let guess = ((t - first) / (last - first) * (n - 1) as f64).floor();
+        if guess >= 0.0 && guess < n as f64 {
+            let i = guess as usize;
+            // j = i + 1 when the spacing is even; rounding may move it by one.
+            for j in [i + 1, i, i + 2] {
+                if (1..=n).contains(&j) && times[j - 1] <= t && (j == n || times[j] > t) {
+                    return j;
+                }
+            }
+        }
+    }
+    times.partition_point(|&x| x <= t)
 }
 
 /// One term of a signal: amplitude times shape.
@@ -181,6 +214,37 @@ mod tests {
         assert_eq!(s.at(2.0), 0.0);
         assert_eq!(s.at(3.0), -2.0);
         assert_eq!(s.at(3.5), 0.0);
+    }
+
+    #[test]
+    fn a_constant_is_one_from_t_0_on() {
+        let c = Shape::Constant;
+        assert_eq!((c.at(-1e-9), c.at(0.0), c.at(2.5)), (0.0, 1.0, 1.0));
+        assert_eq!((c.at_side(0.0, true), c.at_side(0.0, false)), (0.0, 1.0));
+        assert_eq!(c.at_side(1.0, true), 1.0);
+        assert_eq!(c.breakpoints(), vec![0.0]);
+    }
+
+    #[test]
+    fn the_knot_lookup_is_bisection_on_even_and_uneven_tables() {
+        let rate = 610.3515625;
+        let even: Vec<f64> = (0..1000).map(|k| k as f64 / rate).collect();
+        let uneven: Vec<f64> = (0..1000).map(|k| (k as f64).powf(1.5) * 1e-3).collect();
+        for times in [even, uneven, vec![0.0, 1.0], vec![0.0, 1.0, 3.0]] {
+            let last = *times.last().unwrap();
+            let probes = (0..=4000)
+                .map(|i| last * i as f64 / 4000.0)
+                .chain(times.iter().copied())
+                .chain(times.iter().map(|t| t * (1.0 + 1e-15)))
+                .chain(times.iter().map(|t| t * (1.0 - 1e-15)));
+            for t in probes.filter(|t| (0.0..=last).contains(t)) {
+                assert_eq!(
+                    knot_after(&times, t),
+                    times.partition_point(|&x| x <= t),
+                    "t = {t}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -141,7 +141,7 @@ pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
             .filter_map(|t| match t.shape {
                 Shape::Sine { frequency, .. } => Some(frequency.abs()),
                 Shape::Chirp { f0, f1, .. } => Some(f0.abs().max(f1.abs())),
-                Shape::Impulse { .. } | Shape::Table { .. } => None,
+                Shape::Impulse { .. } | Shape::Constant | Shape::Table { .. } => None,
             })
             .fold(0.0, f64::max);
         if highest > nyquist {

@@ -64,3 +64,35 @@ pub fn patch_nth(bytes: &[u8], from: &[u8], to: &[u8], n: usize) -> Vec<u8> {
     out[at..at + to.len()].copy_from_slice(to);
     out
 }
+
+/// A MATLAB Level 5 MAT-file (little-endian, uncompressed) holding each
+/// `(name, values)` as a 1×N double vector.
+pub fn mat_bytes(vars: &[(&str, &[f64])]) -> Vec<u8> {
+    let mut out = vec![b' '; 116];
+    out[..19].copy_from_slice(b"MATLAB 5.0 MAT-file");
+    out.extend([0u8; 8]);
+    out.extend(0x0100u16.to_le_bytes());
+    out.extend(b"IM");
+    let sub = |out: &mut Vec<u8>, kind: u32, data: &[u8]| {
+        out.extend(kind.to_le_bytes());
+        out.extend((data.len() as u32).to_le_bytes());
+        out.extend(data);
+        out.resize(out.len().div_ceil(8) * 8, 0);
+    };
+    for (name, values) in vars {
+        let mut m = Vec::new();
+        sub(&mut m, 6, &[6, 0, 0, 0, 0, 0, 0, 0]); // array flags: double
+        let dims: Vec<u8> = [1i32, values.len() as i32]
+            .iter()
+            .flat_map(|d| d.to_le_bytes())
+            .collect();
+        sub(&mut m, 5, &dims);
+        sub(&mut m, 1, name.as_bytes());
+        let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        sub(&mut m, 9, &data);
+        out.extend(14u32.to_le_bytes());
+        out.extend((m.len() as u32).to_le_bytes());
+        out.extend(m);
+    }
+    out
+}

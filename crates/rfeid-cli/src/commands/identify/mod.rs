@@ -25,7 +25,10 @@ pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&args.search)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     check_combinations(&args, shard.is_some())?;
-    let model = stepped(fixed(load(&args.model)?, &args.set)?, &args.search.steps)?;
+    let model = stepped(
+        fixed(load(&args.model, ui)?, &args.set)?,
+        &args.search.steps,
+    )?;
     if !model.experiments.is_empty() {
         return campaign::run(&args, &model, ui);
     }

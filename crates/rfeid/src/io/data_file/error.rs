@@ -73,11 +73,14 @@ pub enum DataFileError {
         /// The record number.
         record: usize,
     },
-    /// A MAT-file without a time axis.
-    #[error("{}: no time axis: the file needs a 'time' or 't' vector, or a 'sample_rate' or 'fs' scalar (variables: {variables})", path.display())]
+    /// A MAT-file without a time axis but with a variable that looks like
+    /// one under another name, so that the samples' instants are ambiguous.
+    #[error("{}: no time axis: the file needs a 'time' or 't' vector, or a 'sample_rate' or 'fs' scalar; variable '{candidate}' increases like a time axis under another name, so the samples cannot be taken on the model's grid from t = 0 (rename it 'time', or remove it) (variables: {variables})", path.display())]
     NoTimeAxis {
         /// The file.
         path: PathBuf,
+        /// The variable that looks like a time axis.
+        candidate: String,
         /// The variables present.
         variables: String,
     },

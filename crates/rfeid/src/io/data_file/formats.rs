@@ -1,5 +1,6 @@
 //! The signals of each format, before the shared checks: a time axis and
 //! one vector per sensor, each with a description of where it came from.
+use super::time_axis::mat_time_axis;
 use super::DataFileError;
 use crate::io::mat::read_mat_vectors;
 use crate::io::timeseries::read_csv;
@@ -71,13 +72,16 @@ pub fn csv(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, Da
 }
 
 /// MAT-file: the sensors' vectors; time from `time` or `t`, else
-/// t_k = k / rate from `sample_rate` or `fs`.
+/// t_k = k / rate from `sample_rate` or `fs`, else the model's grid from
+/// t = 0 with a note ([`mat_time_axis`]).
 pub fn mat(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
     let file = read_mat_vectors(path)?;
     let mut columns = Vec::new();
     let mut origins = Vec::new();
+    let mut read = Vec::new();
     for (sensor, source) in model.sensors.iter().zip(sources) {
         let name = by_name(path, &sensor.name, source)?;
+        read.push(name);
         let v = file
             .require_vector(name)
             .map_err(|e| DataFileError::SensorVariable {
@@ -87,44 +91,14 @@ pub fn mat(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, Da
         columns.push(v.to_vec());
         origins.push(format!("variable '{name}'"));
     }
-    let (time, axis) = if let Some(name) = ["time", "t"]
-        .into_iter()
-        .find(|n| file.variable(n).is_some())
-    {
-        (
-            file.require_vector(name)?.to_vec(),
-            format!("variable '{name}'"),
-        )
-    } else if let Some(name) = ["sample_rate", "fs"]
-        .into_iter()
-        .find(|n| file.variable(n).is_some())
-    {
-        let v = file.require_vector(name)?;
-        let rate = match v {
-            [r] if r.is_finite() && *r > 0.0 => *r,
-            _ => {
-                return Err(DataFileError::BadSampleRate {
-                    path: path.into(),
-                    name: name.into(),
-                    found: format!("{v:?}"),
-                })
-            }
-        };
-        let n = columns.first().map_or(0, Vec::len);
-        let time = (0..n).map(|k| k as f64 / rate).collect();
-        (time, format!("{rate} Hz from variable '{name}'"))
-    } else {
-        return Err(DataFileError::NoTimeAxis {
-            path: path.into(),
-            variables: file.names().join(", "),
-        });
-    };
+    let n = columns.first().map_or(0, Vec::len);
+    let axis = mat_time_axis(&file, n, model.sampling.sample_rate, &read)?;
     Ok(Raw {
-        time,
-        axis,
+        time: axis.time,
+        axis: axis.axis,
         columns,
         origins,
-        notes: Vec::new(),
+        notes: axis.note.into_iter().collect(),
     })
 }
 

@@ -9,7 +9,8 @@
 //! of the formats give the same time series, hence the same identification.
 //!
 //! The time axis: CSV, the `time` column; MAT-file, a `time` (or `t`)
-//! vector, else `t_k = k / rate` from a `sample_rate` (or `fs`) scalar;
+//! vector, else `t_k = k / rate` from a `sample_rate` (or `fs`) scalar,
+//! else the model's grid from t = 0, with a note ([`mat_time_axis`]);
 //! universal file, the first sensor's record's abscissa
 //! (`min + k · increment`, or the stored values), which every other
 //! sensor's record must share. The axis must be finite and strictly
@@ -21,8 +22,11 @@
 //! records.
 mod error;
 mod formats;
+mod time_axis;
 
 pub use error::DataFileError;
+pub(crate) use time_axis::check_time_axis;
+pub use time_axis::{mat_time_axis, MatTimeAxis};
 
 use crate::io::timeseries::TimeSeries;
 use crate::model::{DataSource, Model};
@@ -105,20 +109,7 @@ fn check(path: &Path, model: &Model, raw: formats::Raw) -> Result<DataRead, Data
     if raw.time.is_empty() {
         return Err(DataFileError::Empty { path: path.into() });
     }
-    let bad_time = |index: usize, message: String| DataFileError::BadTime {
-        path: path.into(),
-        axis: raw.axis.clone(),
-        index,
-        message,
-    };
-    for (k, &t) in raw.time.iter().enumerate() {
-        if !t.is_finite() {
-            return Err(bad_time(k, format!("t = {t} is not a finite number")));
-        }
-        if k > 0 && !(t > raw.time[k - 1]) {
-            return Err(bad_time(k, format!("t = {t} s does not increase")));
-        }
-    }
+    check_time_axis(path, &raw.axis, &raw.time)?;
     for ((sensor, col), origin) in model.sensors.iter().zip(&raw.columns).zip(&raw.origins) {
         if col.len() != raw.time.len() {
             return Err(DataFileError::Length {

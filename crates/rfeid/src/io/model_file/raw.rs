@@ -156,6 +156,7 @@ pub struct RawSignal {
     pub width: Option<SNum>,
     pub file: Option<Spanned<String>>,
     pub column: Option<Spanned<String>>,
+    pub variable: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -42,6 +42,8 @@ pub(super) struct Ctx {
     pub(super) param_index: HashMap<String, usize>,
     /// Files read besides the model file (signal tables).
     pub(super) files: std::cell::RefCell<Vec<PathBuf>>,
+    /// Notes for the user (a table's time axis assumed), each naming its file.
+    pub(super) notes: std::cell::RefCell<Vec<String>>,
 }
 
 impl Ctx {

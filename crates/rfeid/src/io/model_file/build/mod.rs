@@ -52,6 +52,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         sampling,
         gravity,
         files: ctx.files.take(),
+        notes: ctx.notes.take(),
     })
 }
 
@@ -64,6 +65,7 @@ fn new_ctx(text: &str, path: &Path) -> Ctx {
         params: Vec::new(),
         param_index: HashMap::new(),
         files: Default::default(),
+        notes: Default::default(),
     }
 }
 

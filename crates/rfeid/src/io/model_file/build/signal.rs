@@ -1,4 +1,5 @@
-//! Excitation signals: sine, multisine, chirp, impulse (tables in [`super::table`]).
+//! Excitation signals: sine, multisine, chirp, impulse, constant (tables in
+//! [`super::table`]).
 use super::ctx::*;
 use super::simulation::simulation_duration;
 use super::table::table;
@@ -81,12 +82,16 @@ pub(super) fn signal(
         "multisine" => multisine(ctx, &s)?,
         "chirp" => vec![chirp(ctx, &s, raw)?],
         "impulse" => vec![impulse(ctx, &s)?],
+        "constant" => vec![Term {
+            amplitude: s.amplitude(ctx, None)?,
+            shape: Shape::Constant,
+        }],
         _ => vec![table(ctx, &s, raw)?],
     };
     Ok(Signal { kind, terms })
 }
 
-/// The signal's `type`: sine, multisine, chirp, impulse or table.
+/// The signal's `type`: sine, multisine, chirp, impulse, constant or table.
 fn signal_kind(ctx: &Ctx, sig: &Spanned<RawSignal>, entry: &str) -> Result<&'static str> {
     let kind_raw = required(ctx, &sig.get_ref().kind, sig.span(), entry, "signal.type")?;
     match kind_raw.get_ref().trim() {
@@ -94,12 +99,15 @@ fn signal_kind(ctx: &Ctx, sig: &Spanned<RawSignal>, entry: &str) -> Result<&'sta
         "multisine" => Ok("multisine"),
         "chirp" => Ok("chirp"),
         "impulse" => Ok("impulse"),
+        "constant" => Ok("constant"),
         "table" => Ok("table"),
         other => Err(ctx.err(
             Some(kind_raw.span()),
             entry,
             "signal.type",
-            format!("unknown signal type '{other}' (sine, multisine, chirp, impulse or table)"),
+            format!(
+                "unknown signal type '{other}' (sine, multisine, chirp, impulse, constant or table)"
+            ),
         )),
     }
 }
@@ -132,12 +140,13 @@ fn allowed_keys(kind: &str) -> &'static [&'static str] {
         "multisine" => &["components"],
         "chirp" => &["amplitude", "f0", "f1", "duration"],
         "impulse" => &["amplitude", "t0", "width"],
-        _ => &["amplitude", "file", "column"],
+        "constant" => &["amplitude"],
+        _ => &["amplitude", "file", "column", "variable"],
     }
 }
 
 /// Every key a signal can have, with its span when it is given.
-fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 11] {
+fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 12] {
     [
         ("amplitude", rs.amplitude.as_ref().map(|v| v.span())),
         ("frequency", rs.frequency.as_ref().map(|v| v.span())),
@@ -150,6 +159,7 @@ fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 11] {
         ("width", rs.width.as_ref().map(|v| v.span())),
         ("file", rs.file.as_ref().map(|v| v.span())),
         ("column", rs.column.as_ref().map(|v| v.span())),
+        ("variable", rs.variable.as_ref().map(|v| v.span())),
     ]
 }
 

@@ -1,37 +1,53 @@
-//! Table signals: a column of a CSV file, which must cover the simulated time.
+//! Table signals: a column of a CSV file or a variable of a MAT-file (by
+//! the file's extension, as measured data), which must cover the simulated
+//! time.
 use super::ctx::*;
 use super::signal::Sig;
 use super::simulation::sampling;
+use crate::io::data_file::{check_time_axis, mat_time_axis, DataFormat};
+use crate::io::mat::read_mat_vectors;
 use crate::io::model_file::raw::*;
-use crate::io::timeseries::{read_csv, TimeSeries};
+use crate::io::timeseries::read_csv;
 use crate::model::*;
 use std::path::Path;
 use toml::Spanned;
 
-/// A `table` signal's one term: the file's column, checked against the simulated time.
+/// A table's samples as read, with the key that named them.
+struct Samples<'a> {
+    times: Vec<f64>,
+    values: Vec<f64>,
+    /// `column` or `variable`, with the name it gives.
+    key: &'a Spanned<String>,
+    field: &'static str,
+    /// `column 'force'`, `variable 'V1'`: for messages.
+    what: String,
+}
+
+/// A `table` signal's one term: the file's column or variable, checked
+/// against the simulated time.
 pub(super) fn table(ctx: &mut Ctx, s: &Sig, raw: &RawFile) -> Result<Term> {
     let (rs, entry) = (s.raw(), s.entry);
     let file = required(ctx, &rs.file, s.sig.span(), entry, "signal.file")?;
-    let column = required(ctx, &rs.column, s.sig.span(), entry, "signal.column")?;
     let path = ctx.dir.join(file.get_ref());
     ctx.files.borrow_mut().push(path.clone());
-    let ts = read_csv(&path)
-        .map_err(|e| ctx.err(Some(file.span()), entry, "signal.file", e.to_string()))?;
-    let values = table_column(ctx, &ts, column, &path, entry)?;
     let sampling = sampling(ctx, raw)?;
-    if let Some(message) = table_gap(&ts.time, &values, sampling) {
+    let read = if DataFormat::of(&path) == Some(DataFormat::Mat) {
+        mat_samples(ctx, s, file, &path, sampling.sample_rate)?
+    } else {
+        csv_samples(ctx, s, file, &path)?
+    };
+    check_values(ctx, &read, &path, entry)?;
+    if let Some(message) = table_gap(&read.times, &read.values, sampling) {
         return Err(ctx.err(
             Some(file.span()),
             entry,
             "signal.file",
-            format!(
-                "{}: column '{}': {message}",
-                path.display(),
-                column.get_ref()
-            ),
+            format!("{}: {}: {message}", path.display(), read.what),
         ));
     }
-    let mut times = ts.time;
+    let Samples {
+        mut times, values, ..
+    } = read;
     snap_ends(&mut times, sampling);
     Ok(Term {
         amplitude: s.amplitude(ctx, Some(1.0))?,
@@ -39,20 +55,49 @@ pub(super) fn table(ctx: &mut Ctx, s: &Sig, raw: &RawFile) -> Result<Term> {
     })
 }
 
-/// The table's `column`, which must exist and hold values below the data limit.
-fn table_column(
+/// The key that names the signal (`column` of a CSV file, `variable` of a
+/// MAT-file); the other one is an error.
+fn name_key<'a>(
     ctx: &Ctx,
-    ts: &TimeSeries,
-    column: &Spanned<String>,
+    s: &'a Sig,
+    (key, field): (&'a Option<Spanned<String>>, &'static str),
+    (other, other_field): (&Option<Spanned<String>>, &str),
+    kind: &str,
+) -> Result<&'a Spanned<String>> {
+    if let Some(o) = other {
+        return Err(ctx.err(
+            Some(o.span()),
+            s.entry,
+            &format!("signal.{other_field}"),
+            format!("'{other_field}' does not apply to a {kind}: write {field} = \"…\""),
+        ));
+    }
+    required(ctx, key, s.sig.span(), s.entry, &format!("signal.{field}"))
+}
+
+/// A CSV table: its `time` column and the `column`.
+fn csv_samples<'a>(
+    ctx: &Ctx,
+    s: &'a Sig,
+    file: &Spanned<String>,
     path: &Path,
-    entry: &str,
-) -> Result<Vec<f64>> {
+) -> Result<Samples<'a>> {
+    let rs = s.raw();
+    let column = name_key(
+        ctx,
+        s,
+        (&rs.column, "column"),
+        (&rs.variable, "variable"),
+        "CSV file",
+    )?;
+    let ts = read_csv(path)
+        .map_err(|e| ctx.err(Some(file.span()), s.entry, "signal.file", e.to_string()))?;
     let values = ts
         .column(column.get_ref())
         .ok_or_else(|| {
             ctx.err(
                 Some(column.span()),
-                entry,
+                s.entry,
                 "signal.column",
                 format!(
                     "no column '{}' in {} (columns: {})",
@@ -63,21 +108,96 @@ fn table_column(
             )
         })?
         .to_vec();
-    let limit = crate::io::data_file::MAX_DATA_MAGNITUDE;
-    if let Some(k) = values.iter().position(|v| v.abs() > limit) {
-        return Err(ctx.err(
-            Some(column.span()),
-            entry,
-            "signal.column",
-            format!(
-                "{}: column '{}', sample {k} is {:e}; table values must be below {limit:e} in magnitude",
-                path.display(),
-                column.get_ref(),
-                values[k]
-            ),
-        ));
+    Ok(Samples {
+        times: ts.time,
+        values,
+        key: column,
+        field: "signal.column",
+        what: format!("column '{}'", column.get_ref()),
+    })
+}
+
+/// A MAT-file table: the `variable`, on the file's time axis (a `time`
+/// vector, a `sample_rate`, or else the model's grid from t = 0, with a
+/// note), as for measured data.
+fn mat_samples<'a>(
+    ctx: &Ctx,
+    s: &'a Sig,
+    file: &Spanned<String>,
+    path: &Path,
+    rate: f64,
+) -> Result<Samples<'a>> {
+    let rs = s.raw();
+    let variable = name_key(
+        ctx,
+        s,
+        (&rs.variable, "variable"),
+        (&rs.column, "column"),
+        "MAT-file",
+    )?;
+    let name = variable.get_ref().as_str();
+    let file_err = |e: String| ctx.err(Some(file.span()), s.entry, "signal.file", e);
+    let mat = read_mat_vectors(path).map_err(|e| file_err(e.to_string()))?;
+    let values = mat
+        .require_vector(name)
+        .map_err(|e| {
+            ctx.err(
+                Some(variable.span()),
+                s.entry,
+                "signal.variable",
+                e.to_string(),
+            )
+        })?
+        .to_vec();
+    let axis =
+        mat_time_axis(&mat, values.len(), rate, &[name]).map_err(|e| file_err(e.to_string()))?;
+    check_time_axis(path, &axis.axis, &axis.time).map_err(|e| file_err(e.to_string()))?;
+    if axis.time.len() != values.len() {
+        return Err(file_err(format!(
+            "{}: variable '{name}' has {} samples, the time axis ({}) has {}",
+            path.display(),
+            values.len(),
+            axis.axis,
+            axis.time.len()
+        )));
     }
-    Ok(values)
+    ctx.notes.borrow_mut().extend(axis.note);
+    Ok(Samples {
+        times: axis.time,
+        values,
+        key: variable,
+        field: "signal.variable",
+        what: format!("variable '{name}'"),
+    })
+}
+
+/// The table must have samples, each finite and below the data limit.
+fn check_values(ctx: &Ctx, read: &Samples, path: &Path, entry: &str) -> Result<()> {
+    let err = |message: String| {
+        ctx.err(
+            Some(read.key.span()),
+            entry,
+            read.field,
+            format!("{}: {}{message}", path.display(), read.what),
+        )
+    };
+    if read.values.is_empty() {
+        return Err(err(" has no samples".into()));
+    }
+    let limit = crate::io::data_file::MAX_DATA_MAGNITUDE;
+    if let Some(k) = read.values.iter().position(|v| !v.is_finite()) {
+        return Err(err(format!(
+            ", sample {k} is {}, not a finite number",
+            read.values[k]
+        )));
+    }
+    if let Some(k) = read.values.iter().position(|v| v.abs() > limit) {
+        return Err(err(format!(
+            ", sample {k} is {:e}; table values must be below {limit:e} in magnitude",
+            read.values[k]
+        )));
+    }
+    Ok(())
 }
 
 /// Why a force table does not cover the simulated samples t = 0 … (n−1)/rate,
