@@ -3,8 +3,15 @@
 //! oscillator on samples 40 650 … 105 711 and must predict the test window,
 //! samples 105 712 … 127 399, to an RMS simulation error of at most 1.0 mV
 //! (a Duffing model reaches about 0.9 mV there; the rest is physics it
-//! lacks). The verdict is not asserted: real data leave residuals that are
-//! not white, and the verdict's rules are not this test's subject.
+//! lacks). That rest is model error, and the verdict must say so: the starts
+//! agree on the minimum, so it is not a wrong one (exit status 4).
+//!
+//! It runs with `--noise-model white` (output error): with the default
+//! autoregressive noise model the searches before the restarts are weighted
+//! by a noise model fitted to what is mostly misfit, and end in a minimum
+//! whose simulation misses the test window by 9.0 mV; the final fall-back
+//! to output error, being a local search, does not leave it. An open
+//! defect, named in the README.
 mod support;
 
 use rfeid::io::mat::read_mat_vectors;
@@ -68,17 +75,14 @@ fn silverbox_predicts_the_test_window_within_1_mv() {
         .arg(example())
         .arg("-o")
         .arg(&out)
-        .args(["-q", "--timings"])
+        .args(["-q", "--timings", "--noise-model", "white"])
         .output()
         .unwrap();
     let wall = started.elapsed().as_secs_f64();
     let stderr = String::from_utf8_lossy(&o.stderr);
-    // 0: trustworthy, 3: suspect; either way every output is written.
-    assert!(
-        matches!(o.status.code(), Some(0 | 3)),
-        "{:?}\n{stderr}",
-        o.status
-    );
+    // Model error alone: the result is written, the standard errors are
+    // labelled as covering the noise only.
+    assert_eq!(o.status.code(), Some(4), "{stderr}");
     let result: Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     let test = result["experiments"]
         .as_array()
@@ -87,6 +91,10 @@ fn silverbox_predicts_the_test_window_within_1_mv() {
         .find(|e| e["name"] == "test")
         .expect("the validation experiment is reported");
     assert_eq!(test["role"], "validation");
+    assert_eq!(result["std_errors_cover"], "noise_only");
+    let reasons = result["verdict"]["reasons"].as_array().unwrap();
+    assert_eq!(reasons[0]["kind"], "model_error", "{reasons:?}");
+    assert!(reasons[0]["starts"].as_u64().unwrap() >= 2, "{reasons:?}");
     assert_eq!(test["samples"], TEST.1);
     let fit = test["fits"][0].as_f64().unwrap();
 

@@ -138,8 +138,9 @@ fn report_files_are_written_well_formed_and_small() {
     );
     assert!(size < 300 * 1024, "report.html is {size} bytes");
 
-    // One figure per sensor, plus parameters, residuals, plan, 2 × history, correlation.
-    assert_eq!(files.figures.len(), c.model.sensors.len() + 6);
+    // Two figures per sensor (response, residual spectrum), plus parameters,
+    // residuals, plan, 2 × history, correlation.
+    assert_eq!(files.figures.len(), 2 * c.model.sensors.len() + 6);
     let inline = inline_svgs(&html);
     assert_eq!(inline.len(), files.figures.len(), "every figure inline");
     for (path, inlined) in files.figures.iter().zip(&inline) {

@@ -12,17 +12,8 @@ use rfeid::measurement::{add_filtered_noise, add_noise, check_noise, rms, to_tim
 use rfeid::model::Model;
 use rfeid::simulation::{Simulator, Workspace};
 
-/// Runs the command.
-pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
-    let mut model = load(&args.model, ui)?;
-    if let Some(name) = &args.experiment {
-        model = experiment_model(&model, &args.model, name)?;
-    }
-    let model = stepped(model, &args.steps)?;
-    let outputs = check_outputs(&args, &model)?;
-    json_conflict(ui, &outputs)?;
-    let mut params = model.nominal();
-    apply_sets(&model, &args.set, &mut params)?;
+/// `--noise` a non-negative fraction, `--noise-corner` a positive frequency.
+fn check_noise_args(args: &SimulateArgs) -> Result<(), Failure> {
     if let Some(f) = args.noise {
         if !(f >= 0.0 && f.is_finite()) {
             return Err(Failure::input_msg(format!(
@@ -37,6 +28,21 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
             )));
         }
     }
+    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
+    let mut model = load(&args.model, ui)?;
+    if let Some(name) = &args.experiment {
+        model = experiment_model(&model, &args.model, name)?;
+    }
+    let model = stepped(model, &args.steps)?;
+    let outputs = check_outputs(&args, &model)?;
+    json_conflict(ui, &outputs)?;
+    let mut params = model.nominal();
+    apply_sets(&model, &args.set, &mut params)?;
+    check_noise_args(&args)?;
     let sim = Simulator::choose(&model, &params)
         .map_err(|e| simulation_failure("choosing the integrator's steps", e))?;
     let steps = sim.steps();

@@ -112,7 +112,7 @@ pub fn flat(stderr: &[u8]) -> String {
 /// Whether an identification finished and wrote its outputs: exit 0, or 3
 /// (written, but the verdict is suspect).
 pub fn finished(status: std::process::ExitStatus) -> bool {
-    matches!(status.code(), Some(0) | Some(3))
+    matches!(status.code(), Some(0) | Some(3) | Some(4))
 }
 
 /// Each estimate of a RESULT.json, by name, as bits (for exact comparisons).

@@ -34,8 +34,8 @@ impl ArModel {
         self.coefficients.len()
     }
 
-    /// The model of `e` of the order 0 … `max_order` (at most a tenth of the
-    /// samples) with the least Bayesian information criterion
+    /// The model of `e` of the order 0 … `max_order` (at most a fiftieth of
+    /// the samples: a short record has no room for a coloured noise model) with the least Bayesian information criterion
     /// `n ln σ²_p + p ln n`, fitted by Burg's method (the criterion's
     /// residuals are not centred). Burg's reflection coefficients minimise
     /// the forward and backward prediction errors of the record itself, so
@@ -45,7 +45,7 @@ impl ArModel {
     /// frequency). `None` for an empty or all-zero `e`.
     pub fn fit(e: &[f64], max_order: usize) -> Option<Self> {
         let n = e.len();
-        let max_order = max_order.min(n / 10);
+        let max_order = max_order.min(n / 50);
         let energy = e.iter().map(|v| v * v).sum::<f64>();
         if n == 0 || !(energy > 0.0) || !energy.is_finite() {
             return None;
@@ -325,7 +325,7 @@ mod tests {
     fn degenerate_records_have_no_model() {
         assert!(ArModel::fit(&[], 5).is_none());
         assert!(ArModel::fit(&[0.0; 100], 5).is_none());
-        let short = ArModel::fit(&[1.0, -1.0, 1.0], 5).unwrap();
+        let short = ArModel::fit(&[1.0, -1.0, 1.0, -1.0], 5).unwrap();
         assert_eq!(short.order(), 0);
     }
 }

@@ -17,7 +17,7 @@ pub use self::ar::ArModel;
 use serde::{Deserialize, Serialize};
 
 /// Highest autoregressive order tried by default (and never more than a
-/// tenth of the samples): a low-pass that leaves almost no noise near the
+/// fiftieth of the samples): a low-pass that leaves almost no noise near the
 /// Nyquist frequency (a second-order Butterworth at a tenth of the sample
 /// rate, discretised by the bilinear transform) needs about 40 to be
 /// whitened to the verdict's Ljung–Box level on 3000 samples.

@@ -114,17 +114,21 @@ pub(super) fn assemble(
             (Ok(g), Weighting::EstimatedNoise) => noise_models(problem, g),
             _ => Vec::new(),
         },
-        std_errors_cover: match f
-            .verdict
-            .reasons
-            .iter()
-            .any(|r| matches!(r, Reason::ModelError { .. }))
-        {
-            true => StdErrorScope::NoiseOnly,
-            false => StdErrorScope::Noise,
-        },
+        std_errors_cover: std_error_scope(&f.verdict),
         verdict: Some(f.verdict),
         simulation: Some(problem.experiment_simulator(0).steps()),
+    }
+}
+
+/// What the standard errors cover: the noise only under model error.
+fn std_error_scope(verdict: &Verdict) -> StdErrorScope {
+    match verdict
+        .reasons
+        .iter()
+        .any(|r| matches!(r, Reason::ModelError { .. }))
+    {
+        true => StdErrorScope::NoiseOnly,
+        false => StdErrorScope::Noise,
     }
 }
 

@@ -70,11 +70,7 @@ pub(super) fn run(
         .collect();
     visited.extend(ends.searches.iter().map(|e| e.u.clone()));
     let mut tried = 0;
-    // Restarts that came back to the lowest minimum so far: two of them say
-    // the fit is the model's best.
-    let mut agreeing = 0;
-    let r = problem.n_params();
-    let n = problem.n_residuals();
+    let mut agreeing = Agreement::default();
     for idx in rank(&plan.outcomes) {
         let Ok(cost) = plan.outcomes[idx] else { break };
         if tried == s.restarts {
@@ -95,17 +91,10 @@ pub(super) fn run(
             Ok(e) => {
                 visited.push(e.u.clone());
                 let ok = passes(&e.u);
-                let lowest_so_far = lowest(ends.searches.iter().map(|e| e.cost));
-                let level = minima_threshold(lowest_so_far, r, n, s.verdict.minima_level());
-                if e.cost < lowest_so_far - level {
-                    // A lower minimum: it has yet to be confirmed.
-                    agreeing = 0;
-                } else if e.cost <= lowest_so_far + level {
-                    agreeing += 1;
-                }
+                agreeing.count(problem, s, ends, e.cost);
                 ends.searches.push(e);
                 passed.push(ok);
-                if ok || agreeing == AGREEING {
+                if ok || agreeing.settled() {
                     break;
                 }
             }
@@ -127,10 +116,35 @@ pub(super) fn run(
         first_cost,
         restarts: tried,
         found: found.then_some(best),
-        agreed: !found && agreeing == AGREEING,
+        agreed: !found && agreeing.settled(),
     });
     Judged {
         passed: found.then_some(passed),
+    }
+}
+
+/// Restarts that came back to the lowest minimum so far: [`AGREEING`] of
+/// them say the fit is the model's best.
+#[derive(Debug, Default)]
+struct Agreement(usize);
+
+impl Agreement {
+    /// Counts a restart that ended at J = `cost`, against the ends so far.
+    fn count(&mut self, problem: &OutputError<'_>, s: &super::Settings, ends: &Ends, cost: f64) {
+        let lowest_so_far = lowest(ends.searches.iter().map(|e| e.cost));
+        let (r, n) = (problem.n_params(), problem.n_residuals());
+        let level = minima_threshold(lowest_so_far, r, n, s.verdict.minima_level());
+        if cost < lowest_so_far - level {
+            // A lower minimum: it has yet to be confirmed.
+            self.0 = 0;
+        } else if cost <= lowest_so_far + level {
+            self.0 += 1;
+        }
+    }
+
+    /// Whether enough restarts agree.
+    fn settled(&self) -> bool {
+        self.0 >= AGREEING
     }
 }
 

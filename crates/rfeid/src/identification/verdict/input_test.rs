@@ -8,7 +8,9 @@
 //! sine). The test regresses what the noise model leaves, ε, on the inputs
 //! and their past (`u_i(t_k − τ)`, τ = 0 … [`LAGS`] samples) and on their
 //! squares and cubes and those of the last [`POWER_LAGS`] samples (a cube
-//! of a sine holds its third harmonic). With ε white and independent of the
+//! of a sine holds its third harmonic), from sample [`LAGS`] on (every
+//! regressor then has its samples: no column is cut at the record's
+//! start). With ε white and independent of the
 //! inputs, any function of them is a valid regressor, and
 //! `T = εᵀ P ε / σ̂²` (P the projection on the regressors, σ̂² = εᵀε / n)
 //! is χ² with as many degrees of freedom as the regressors have
@@ -64,7 +66,7 @@ impl<'a> InputRegressors<'a> {
             })
             .collect();
         let m = columns.len();
-        if m == 0 || n <= 2 * m {
+        if m == 0 || n <= LAGS + 2 * m {
             return None;
         }
         let mut x = InputRegressors {
@@ -75,7 +77,7 @@ impl<'a> InputRegressors<'a> {
         };
         let mut normal = DMatrix::<f64>::zeros(m, m);
         let mut row = vec![0.0; m];
-        for k in 0..n {
+        for k in LAGS..n {
             x.row(k, &mut row);
             for a in 0..m {
                 if row[a] != 0.0 {
@@ -107,14 +109,15 @@ impl<'a> InputRegressors<'a> {
         (!x.directions.is_empty()).then_some(x)
     }
 
-    /// The regressors at sample k, into `row`.
+    /// The number of regressors.
+    pub fn columns(&self) -> usize {
+        self.columns.len()
+    }
+
+    /// The regressors at sample k ≥ [`LAGS`], into `row`.
     fn row(&self, k: usize, row: &mut [f64]) {
         for (r, &(i, lag, power)) in row.iter_mut().zip(&self.columns) {
-            *r = if k >= lag {
-                self.inputs[i][k - lag].powi(power)
-            } else {
-                0.0
-            };
+            *r = self.inputs[i][k - lag].powi(power);
         }
     }
 
@@ -123,7 +126,7 @@ impl<'a> InputRegressors<'a> {
         let m = self.columns.len();
         let mut right = DVector::<f64>::zeros(m);
         let mut row = vec![0.0; m];
-        for (k, ek) in e.iter().enumerate() {
+        for (k, ek) in e.iter().enumerate().skip(LAGS) {
             self.row(k, &mut row);
             for a in 0..m {
                 right[a] += row[a] * ek;
@@ -138,7 +141,8 @@ impl<'a> InputRegressors<'a> {
     /// `T` and its degrees of freedom for residuals `e` (as long as the
     /// record), or `None` for zero residuals.
     pub fn statistic(&self, e: &[f64]) -> Option<(f64, usize)> {
-        let sigma2 = e.iter().map(|v| v * v).sum::<f64>() / e.len() as f64;
+        let used = &e[LAGS.min(e.len())..];
+        let sigma2 = used.iter().map(|v| v * v).sum::<f64>() / used.len().max(1) as f64;
         if !(sigma2 > 0.0) {
             return None;
         }
@@ -158,15 +162,15 @@ impl<'a> InputRegressors<'a> {
         let m = self.columns.len();
         let mut beta = vec![0.0; m];
         for (p, (l, v)) in self.projections(e).iter().zip(&self.directions) {
-            for a in 0..m {
-                beta[a] += v[a] * p / l;
+            for (b, va) in beta.iter_mut().zip(v.iter()) {
+                *b += va * p / l;
             }
         }
-        for a in 0..m {
-            beta[a] /= self.scale[a];
+        for (b, scale) in beta.iter_mut().zip(&self.scale) {
+            *b /= scale;
         }
         let mut row = vec![0.0; m];
-        for (k, ek) in e.iter_mut().enumerate() {
+        for (k, ek) in e.iter_mut().enumerate().skip(LAGS) {
             self.row(k, &mut row);
             *ek -= row.iter().zip(&beta).map(|(r, b)| r * b).sum::<f64>();
         }
@@ -199,7 +203,9 @@ mod tests {
         let mut p_values = Vec::new();
         for seed in 0..20 {
             let (t, rank) = input_statistic(&noise(n, seed), std::slice::from_ref(&u)).unwrap();
-            assert!(rank >= 2, "{rank}");
+            // sin and cos; their squares' constant and second harmonic; the
+            // cubes' third harmonic.
+            assert_eq!(rank, 7);
             p_values.push(chi_square_sf(t, rank));
         }
         // Independent noise: p uniform; none of 20 below 1e-3 but by chance.
