@@ -119,11 +119,10 @@ impl ArModel {
 
 /// The whitening of a record by an autoregressive model: sample k ≥ p is
 /// filtered by `A(q)`, sample k < p, which has only k samples before it, by
-/// `A(q)` truncated at the record's start. (The exact start, the
+/// `A(q)` truncated at the record's start. (An exact start, the
 /// lower-order predictors of the same process by the Levinson recursion run
-/// backwards, is unstable in floating point for the reflection coefficients
-/// near ±1 that strongly coloured noise has, and was measured to spoil the
-/// verdict; the truncated start costs a few rows of larger variance.)
+/// backwards, is ill-conditioned for reflection coefficients near ±1; the
+/// truncated start costs a few rows of larger variance.)
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Whitener {
     coefficients: Vec<f64>,
