@@ -155,6 +155,14 @@ impl Whitener {
     }
 }
 
+/// Σ (A(q) e)² for the coefficients `a` (a_1 … a_p): the sum of squares of
+/// what the filter leaves of `e`.
+pub(crate) fn whitened_ssr(a: &[f64], e: &[f64]) -> f64 {
+    let mut w = e.to_vec();
+    whiten(a, &mut w);
+    w.iter().map(|v| v * v).sum()
+}
+
 /// [`Whitener`] of the coefficients `a` (a_1 … a_p) applied to `x`.
 pub(crate) fn whiten(a: &[f64], x: &mut [f64]) {
     if !a.is_empty() {

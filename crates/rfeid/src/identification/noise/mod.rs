@@ -80,13 +80,11 @@ impl SensorNoise {
     /// whitening filter is `filter` (a_1 … a_p).
     pub fn of(sensor: String, e: &[f64], filter: &[f64]) -> Self {
         let n = e.len().max(1) as f64;
-        let mut left = e.to_vec();
-        ar::whiten(filter, &mut left);
         SensorNoise {
             sensor,
             order: filter.len(),
             coefficients: filter.to_vec(),
-            innovation_std: (left.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
+            innovation_std: (ar::whitened_ssr(filter, e) / n).sqrt(),
             residual_std: (e.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
         }
     }

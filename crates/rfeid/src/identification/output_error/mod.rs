@@ -357,20 +357,9 @@ impl<'m> OutputError<'m> {
     /// Per-sensor sums of squared unweighted residuals of the responses `g`
     /// (one per experiment), in [`OutputError::weights`]' order.
     pub fn sensor_ssr(&self, g: &[Response]) -> Vec<f64> {
-        self.parts
+        self.sensor_residuals(g)
             .iter()
-            .zip(g)
-            .flat_map(|(part, g)| {
-                let y = &part.data.measured;
-                let first = part.data.first;
-                (0..y.n_sensors).map(move |c| {
-                    g.sensor(c)[first..]
-                        .iter()
-                        .zip(&y.sensor(c)[first..])
-                        .map(|(a, b)| (a - b) * (a - b))
-                        .sum()
-                })
-            })
+            .map(|e| e.iter().map(|v| v * v).sum())
             .collect()
     }
 

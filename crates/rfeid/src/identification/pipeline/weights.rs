@@ -9,7 +9,7 @@ use super::judge::{fit_passes, fit_signals};
 use super::searcher::Searcher;
 use super::settings::{Start, Weighting};
 use super::starts::Ends;
-use crate::identification::noise::ar::whiten;
+use crate::identification::noise::ar::whitened_ssr;
 use crate::identification::noise::NoiseModel;
 use crate::identification::output_error::OutputError;
 use crate::identification::search::SearchOutcome;
@@ -164,8 +164,8 @@ impl Update {
                 .fit(&noise_part(&e, sig.inputs))
                 .map(|m| m.coefficients)
                 .unwrap_or_default();
-            u.ssr_held.push(filtered_ssr(sig.whitening, &e));
-            u.ssr_new.push(filtered_ssr(&filter, &e));
+            u.ssr_held.push(whitened_ssr(sig.whitening, &e));
+            u.ssr_new.push(whitened_ssr(&filter, &e));
             u.filters.push(filter);
         }
         u.weights = noise_weights(&u.ssr_new, &problem.weight_samples());
@@ -208,13 +208,6 @@ fn noise_part(e: &[f64], inputs: &[Vec<f64>]) -> Vec<f64> {
 /// Samples per input regressor a record needs before its input-explained
 /// part is removed for the noise model.
 const SAMPLES_PER_REGRESSOR: usize = 50;
-
-/// Σ (A(q) e)² for the filter a_1 … a_p.
-fn filtered_ssr(filter: &[f64], e: &[f64]) -> f64 {
-    let mut w = e.to_vec();
-    whiten(filter, &mut w);
-    w.iter().map(|v| v * v).sum()
-}
 
 /// w_c = n_c / SSR_c, scaled so that the smallest is 1; a sensor fitted
 /// exactly (zero residuals) gets the largest finite weight, not an
