@@ -6,12 +6,10 @@
 //! lacks). That rest is model error, and the verdict must say so: the starts
 //! agree on the minimum, so it is not a wrong one (exit status 4).
 //!
-//! It runs with `--noise-model white` (output error): with the default
-//! autoregressive noise model the searches before the restarts are weighted
-//! by a noise model fitted to what is mostly misfit, and end in a minimum
-//! whose simulation misses the test window by 9.0 mV; the final fall-back
-//! to output error, being a local search, does not leave it. An open
-//! defect, named in the README.
+//! It runs at `identify`'s defaults: sensor weights and an autoregressive
+//! noise model estimated from the residuals. Under model error that noise
+//! model is fitted to what is mostly misfit; the estimates must still
+//! predict the test window as output error's do.
 mod support;
 
 use rfeid::io::mat::read_mat_vectors;
@@ -75,7 +73,7 @@ fn silverbox_predicts_the_test_window_within_1_mv() {
         .arg(example())
         .arg("-o")
         .arg(&out)
-        .args(["-q", "--timings", "--noise-model", "white"])
+        .args(["-q", "--timings"])
         .output()
         .unwrap();
     let wall = started.elapsed().as_secs_f64();

@@ -4,19 +4,24 @@
 //! the totals over all cases.
 //!
 //! ```sh
-//! cargo run --release -p rfeid --example coloured_noise -- [--seeds 10] [--corners 500,1000,2000] [--noise 0.01,0.02,0.03] [--white]
+//! cargo run --release -p rfeid --example coloured_noise -- [--seeds 10] [--corners 500,1000,2000] [--noise 0.01,0.02,0.03] [--white] [--exponent M]
 //! ```
 //!
 //! The cases are those of `tests/coloured_cases` (identify's defaults),
 //! each with its own noise stream (seed, level and corner);
 //! `--white` models the noise as white (`--noise-model white`), for
 //! comparison. A corner at or above 5000 Hz (the Nyquist frequency) adds
-//! white noise.
+//! white noise. `--exponent M` identifies a wrong model from the same data:
+//! the four slideway contacts' exponents fixed at M instead of 2 (its
+//! verdicts should be suspect; its z-scores mean nothing).
 #[path = "../tests/coloured_cases/mod.rs"]
 mod coloured_cases;
 
 use coloured_cases::{coloured_data, default_settings, knee_column, rms, run, z_scores};
 use rfeid::identification::pipeline::NoiseModel;
+use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::verdict::{is_fit_reason, Outcome};
+use rfeid::model::{Law, Model, Value};
 use std::time::Instant;
 
 fn list(v: String) -> Vec<f64> {
@@ -24,11 +29,12 @@ fn list(v: String) -> Vec<f64> {
 }
 
 fn main() {
-    let (mut seeds, mut corners, mut noises, mut white) = (
+    let (mut seeds, mut corners, mut noises, mut white, mut exponent) = (
         10u64,
         vec![500.0, 1000.0, 2000.0],
         vec![0.01, 0.02, 0.03],
         false,
+        None,
     );
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -38,10 +44,12 @@ fn main() {
             "--corners" => corners = list(value()),
             "--noise" => noises = list(value()),
             "--white" => white = true,
+            "--exponent" => exponent = Some(value().parse().expect("an exponent")),
             other => panic!("unknown argument {other}"),
         }
     }
     let model = knee_column();
+    let fitted = exponent.map_or_else(|| model.clone(), |m| with_exponent(&model, m));
     let mut settings = default_settings();
     if white {
         settings.noise_model = NoiseModel::White;
@@ -55,7 +63,7 @@ fn main() {
                 let stream = seed + 1000 * (j as u64 + 1) + 1_000_000 * (i as u64 + 1);
                 let data = coloured_data(&model, noise, corner, stream);
                 let t = Instant::now();
-                let r = run(&model, data, &settings);
+                let r = run(&fitted, data, &settings);
                 let z = z_scores(&r);
                 let orders: Vec<String> = r.noise.iter().map(|n| n.order.to_string()).collect();
                 println!(
@@ -63,11 +71,7 @@ fn main() {
                     rms(&z),
                     z.iter().cloned().fold(0.0, f64::max),
                     orders.join(","),
-                    if r.is_suspect() {
-                        "SUSPECT"
-                    } else {
-                        "trustworthy"
-                    },
+                    verdict(&r),
                     t.elapsed().as_secs_f64()
                 );
                 trusted += usize::from(!r.is_suspect());
@@ -81,4 +85,29 @@ fn main() {
         rms(&all),
         all.iter().cloned().fold(0.0, f64::max)
     );
+}
+
+/// `model` with its power-law contacts' exponents fixed at `m`.
+fn with_exponent(model: &Model, m: f64) -> Model {
+    let mut wrong = model.clone();
+    for c in wrong.elements.iter_mut().flat_map(|e| &mut e.components) {
+        if let Law::Power { m: e, .. } = &mut c.law {
+            *e = Value::Fixed(m);
+        }
+    }
+    wrong
+}
+
+/// The verdict's outcome; a suspect one says whether the residual checks
+/// failed too (`SUSPECT/fit`) or only other checks (bounds, minima, …).
+fn verdict(r: &IdentificationResult) -> &'static str {
+    let Some(v) = &r.verdict else {
+        return "none";
+    };
+    match v.outcome() {
+        Outcome::Trustworthy => "trustworthy",
+        Outcome::ModelError => "MODEL ERROR",
+        Outcome::Suspect if v.reasons.iter().any(is_fit_reason) => "SUSPECT/fit",
+        Outcome::Suspect => "SUSPECT",
+    }
 }

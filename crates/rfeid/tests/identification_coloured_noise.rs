@@ -39,7 +39,7 @@ fn coloured_noise_gets_honest_standard_errors() {
 }
 
 /// A wrong model (a slideway exponent fixed at 2.5 instead of 2) on the same
-/// coloured noise stays suspect: the noise model cannot hide a misfit that
+/// coloured noise stays suspect: the noise model does not whiten away a misfit that
 /// follows the input.
 #[test]
 fn a_wrong_model_on_coloured_noise_is_suspect() {

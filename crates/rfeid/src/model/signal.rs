@@ -148,8 +148,9 @@ fn knot_after(times: &[f64], t: f64) -> usize {
     let n = times.len();
     if n >= 2 {
         let (first, last) = (times[0], times[n - 1]);
-        let guess = ((t - first) / (last - first) * (n - 1) as f64).floor();
+        let guess = (t - first) / (last - first) * (n - 1) as f64;
         if guess >= 0.0 && guess < n as f64 {
+            // Truncation is the floor here, without a call to libm.
             let i = guess as usize;
             // j = i + 1 when the spacing is even; rounding may move it by one.
             for j in [i + 1, i, i + 2] {

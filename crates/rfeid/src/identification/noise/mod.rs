@@ -57,6 +57,12 @@ impl NoiseModel {
             NoiseModel::Autoregressive { max_order } => ArModel::fit(e, max_order),
         }
     }
+
+    /// The whitening filter a_1 … a_p of the model of `e` ([`Self::fit`]);
+    /// empty for white noise, or when `e` has no model.
+    pub fn filter(&self, e: &[f64]) -> Vec<f64> {
+        self.fit(e).map(|m| m.coefficients).unwrap_or_default()
+    }
 }
 
 /// The noise model of one sensor at the estimate, as RESULT.json and the

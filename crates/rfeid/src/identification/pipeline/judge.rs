@@ -1,21 +1,56 @@
 //! Stage 7, the verdict: the fit at the estimate, every sensor's signals,
 //! and the checks of [`crate::identification::verdict`].
 use super::bounds::Bounds;
+use crate::identification::noise::NoiseModel;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::LeastSquares;
 use crate::identification::search::SearchOutcome;
 use crate::identification::verdict::{
-    assess, fit_fails, Evidence, FitSignal, StartEnd, Verdict, VerdictSettings,
+    assess, fit_fails, fitted_exactly, Evidence, FitSignal, StartEnd, Verdict, VerdictSettings,
 };
 use crate::model::ColumnName;
 use crate::simulation::{Response, SimulationError};
 
 /// Whether the fit at u passes the verdict's per-sensor checks (fit,
-/// whiteness, noise level); a failed simulation does not.
-pub(super) fn fit_passes(problem: &OutputError<'_>, s: &VerdictSettings, u: &[f64]) -> bool {
-    problem
-        .simulate_all(u)
-        .is_ok_and(|g| !fit_fails(&fit_signals(problem, Some(&g)), s))
+/// whiteness, noise level, input) with each sensor's residuals whitened by
+/// a noise model fitted to them (of the kind `noise_model` says), not by
+/// the weighting the search used: coloured noise then passes with a correct
+/// model whatever the search's weighting, and the decision does not depend
+/// on prewhitening a criterion whose model may be wrong. A failed
+/// simulation does not pass.
+pub(super) fn fit_passes(
+    problem: &OutputError<'_>,
+    s: &VerdictSettings,
+    noise_model: NoiseModel,
+    u: &[f64],
+) -> bool {
+    let Ok(fitted) = problem.simulate_all(u) else {
+        return false;
+    };
+    let mut signals = fit_signals(problem, Some(&fitted));
+    let filters: Vec<Vec<f64>> = signals
+        .iter()
+        .map(|sig| own_filter(sig, s, noise_model))
+        .collect();
+    for (sig, filter) in signals.iter_mut().zip(&filters) {
+        sig.whitening = filter;
+    }
+    !fit_fails(&signals, s)
+}
+
+/// The whitening filter of a noise model of kind `noise_model` fitted to
+/// the residuals of `sig` (none for white noise, or a sensor fitted exactly).
+fn own_filter(sig: &FitSignal<'_>, s: &VerdictSettings, noise_model: NoiseModel) -> Vec<f64> {
+    if fitted_exactly(sig, s) {
+        return Vec::new();
+    }
+    let e: Vec<f64> = sig
+        .fitted
+        .iter()
+        .zip(sig.measured)
+        .map(|(g, y)| g - y)
+        .collect();
+    noise_model.filter(&e)
 }
 
 /// Every sensor of every experiment, named `sensor[experiment]` in a

@@ -98,11 +98,13 @@ pub fn finish(
     let mut ends = starts::run(&problem, &searcher, &plan)?;
     weights::before_restarts(&mut problem, &searcher, &mut ends)?;
     let judged = restarts::run(&problem, &searcher, &plan, &mut ends);
-    let noise_model = weights::final_noise_model(&mut problem, settings, &ends);
     let (best, kept) = best_end(&problem, ends.searches, &judged)
         .ok_or_else(|| IdentifyError::AllStartsFailed(ends.failures.clone()))?;
     let best = match settings.weighting {
-        Weighting::EstimatedNoise => weights::estimate(&mut problem, &searcher, best, noise_model)?,
+        Weighting::EstimatedNoise => {
+            let noise_model = weights::final_noise_model(&problem, settings, &best.u);
+            weights::estimate(&mut problem, &searcher, best, noise_model)?
+        }
         Weighting::Equal => best,
     };
     let (best, step_warnings) = accuracy::check(&mut problem, &searcher, best)?;

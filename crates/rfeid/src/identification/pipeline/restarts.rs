@@ -57,7 +57,7 @@ pub(super) fn run(
     if s.start == Start::Values || s.restarts == 0 {
         return Judged::default();
     }
-    let passes = |u: &[f64]| fit_passes(problem, &s.verdict, u);
+    let passes = |u: &[f64]| fit_passes(problem, &s.verdict, s.noise_model, u);
     let mut passed: Vec<bool> = ends.searches.iter().map(|e| passes(&e.u)).collect();
     if passed.iter().any(|&p| p) || ends.searches.is_empty() {
         return Judged::default();

@@ -38,8 +38,10 @@
 //! - **residuals and input** ([`input_test`]): what the noise model leaves
 //!   must not depend on the excitation; `p < whiteness_level` of the
 //!   regression test says the misfit is in the dynamics. A noise model
-//!   flexible enough to whiten a misfit cannot pass this test, so it is
-//!   what keeps a wrong model suspect on coloured noise;
+//!   fitted to residuals that hold a misfit whitens the misfit only in
+//!   part, and what it leaves still follows the input: with the whiteness
+//!   test, this is what keeps a wrong model suspect on coloured noise (a
+//!   misfit small beside the noise can pass both);
 //! - **model error**: when the fit fails any of the checks above at the
 //!   lowest minimum and at least two distinct starts ended there (the
 //!   restarts stop once two agree), the misfit is the model's, not the
