@@ -17,7 +17,7 @@ use crate::run::failures::identify_failure;
 use crate::run::inputs::{load, load_data, stepped};
 use crate::run::report::render;
 use crate::run::search::prepare;
-use crate::run::shard_file::{read_shard, resolve, run_hash, share, ShardFile};
+use crate::run::shard_file::{read_shard, resolve, run_hash, ShardFile};
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use rfeid::identification::pipeline::{finish, plan, PointOutcome};
@@ -119,16 +119,10 @@ fn gather(
                     p.index,
                 ))
             })?;
+            // read_shard checked that exactly one of the two is there.
             *slot = Some(match (&p.cost, &p.failure) {
-                (Some(c), None) => Ok(*c),
-                (None, Some(f)) => Err(f.clone()),
-                _ => {
-                    return Err(Failure::input_msg(format!(
-                        "{}: point {} needs exactly one of cost and failure",
-                        path.display(),
-                        p.index
-                    )))
-                }
+                (Some(c), _) => Ok(*c),
+                (None, f) => Err(f.clone().unwrap_or_default()),
             });
         }
     }
@@ -142,23 +136,13 @@ fn gather(
 /// each complete.
 fn check_together(args: &MergeArgs, shards: &[ShardFile]) -> Result<(), Failure> {
     let first = &shards[0];
+    let first_name = args.shards[0].display();
     let mut seen = vec![false; first.of];
     for (s, path) in shards.iter().zip(&args.shards) {
         let name = path.display();
-        if s.hash != first.hash || s.of != first.of || s.search != first.search {
+        if let Some(what) = differs(first, s) {
             return Err(Failure::input_msg(format!(
-                "{name}: belongs to another run than {} (hash {} / {} shards, against {} / {})",
-                args.shards[0].display(),
-                s.hash,
-                s.of,
-                first.hash,
-                first.of
-            )));
-        }
-        if s.shard >= s.of {
-            return Err(Failure::input_msg(format!(
-                "{name}: shard {} of {} does not exist",
-                s.shard, s.of
+                "{name}: belongs to another run than {first_name}: {what}"
             )));
         }
         if std::mem::replace(&mut seen[s.shard], true) {
@@ -167,23 +151,48 @@ fn check_together(args: &MergeArgs, shards: &[ShardFile]) -> Result<(), Failure>
                 s.shard, s.of
             )));
         }
-        let mine = share(s.shard, s.of, s.search.plan);
-        let have: Vec<usize> = s.points.iter().map(|p| p.index).collect();
-        if !s.complete || have != mine {
+        if let Some(what) = s.incomplete() {
             return Err(Failure::input_msg(format!(
-                "{name}: shard {}/{} is not complete ({} of its {} points): run it again to resume it",
-                s.shard,
-                s.of,
-                have.len(),
-                mine.len()
+                "{name}: shard {}/{} is not complete: {what}; run it again to resume it",
+                s.shard, s.of
             )));
         }
     }
     if let Some(k) = seen.iter().position(|s| !s) {
         return Err(Failure::input_msg(format!(
-            "shard {k}/{} is missing",
+            "shard {k}/{} is missing ({} shard files given, the run has {})",
+            first.of,
+            shards.len(),
             first.of
         )));
     }
+    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
+    if !seconds.is_finite() {
+        return Err(Failure::input_msg(format!(
+            "the shards' `seconds` add up to {seconds}: a shard file's time was edited"
+        )));
+    }
     Ok(())
+}
+
+/// What makes shard `s` part of another run than `first`, if anything.
+fn differs(first: &ShardFile, s: &ShardFile) -> Option<String> {
+    if s.hash != first.hash {
+        Some(format!(
+            "their hashes of the model, its tables, the data and the settings differ ({} against {})",
+            s.hash, first.hash
+        ))
+    } else if s.of != first.of {
+        Some(format!(
+            "it is one of {} shards, against {}",
+            s.of, first.of
+        ))
+    } else if s.search != first.search {
+        Some(format!(
+            "its search settings differ ({:?} against {:?})",
+            s.search, first.search
+        ))
+    } else {
+        None
+    }
 }

@@ -93,7 +93,9 @@ pub fn file_destination(path: &Path) -> Result<Destination, String> {
         Err(e) => Err(e.to_string()),
         Ok(m) if m.is_dir() => Err("is a directory".into()),
         Ok(m) if m.is_file() => {
-            if !writable(&target) {
+            // The mode too: `access` says yes to root for any file, and a
+            // read-only file is refused whoever runs.
+            if !writable(&target) || read_only(&m) {
                 return Err("the file is read-only".into());
             }
             Ok(Destination::File {
@@ -181,6 +183,12 @@ pub fn writable(path: &Path) -> bool {
     std::fs::metadata(path)
         .map(|m| !m.permissions().readonly())
         .unwrap_or(false)
+}
+
+/// Whether no one may write the file by its mode (or, off Unix, its
+/// read-only attribute).
+fn read_only(m: &Metadata) -> bool {
+    m.permissions().readonly()
 }
 
 #[cfg(unix)]

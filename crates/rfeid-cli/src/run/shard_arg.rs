@@ -27,13 +27,39 @@ fn from_slurm() -> Result<(usize, usize), Failure> {
             }),
         }
     };
-    let (Some(id), Some(count)) = (var("SLURM_ARRAY_TASK_ID")?, var("SLURM_ARRAY_TASK_COUNT")?)
-    else {
-        return Err(Failure::input_msg(
-            "--shard auto: SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set (not in a Slurm job array?)",
-        ));
+    let (id, count) = (var("SLURM_ARRAY_TASK_ID")?, var("SLURM_ARRAY_TASK_COUNT")?);
+    let (Some(id), Some(count)) = (id, count) else {
+        let unset: Vec<&str> = [
+            ("SLURM_ARRAY_TASK_ID", id),
+            ("SLURM_ARRAY_TASK_COUNT", count),
+        ]
+        .into_iter()
+        .filter(|(_, v)| v.is_none())
+        .map(|(name, _)| name)
+        .collect();
+        return Err(Failure::input_msg(format!(
+            "--shard auto: {} not set (not in a Slurm job array?)",
+            match unset.as_slice() {
+                [one] => format!("{one} is"),
+                _ => format!("{} are", unset.join(" and ")),
+            }
+        )));
     };
+    if let Some(step) = var("SLURM_ARRAY_TASK_STEP")?.filter(|&s| s != 1) {
+        return Err(Failure::input_msg(format!(
+            "--shard auto: the job array steps by {step} (SLURM_ARRAY_TASK_STEP): shards need a contiguous array such as --array=0-{}, or --shard K/N given explicitly",
+            count.saturating_sub(1)
+        )));
+    }
     let min = var("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
+    if let Some(max) = var("SLURM_ARRAY_TASK_MAX")? {
+        if max.checked_sub(min).map(|span| span + 1) != Some(count) {
+            return Err(Failure::input_msg(format!(
+                "--shard auto: the job array's tasks {min} to {max} are not {count} contiguous ones (a list such as --array=3,7,9?): shards need a contiguous array such as --array=0-{}, or --shard K/N given explicitly",
+                count.saturating_sub(1)
+            )));
+        }
+    }
     let k = id.checked_sub(min).ok_or_else(|| {
         Failure::input_msg(format!(
             "--shard auto: SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"

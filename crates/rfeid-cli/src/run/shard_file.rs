@@ -8,6 +8,7 @@
 //! check that the shards belong together, not a protection against
 //! tampering), the shard's number, the search settings, the model and data
 //! paths, and J (or the failure) at every finished point.
+use super::limits::{MAX_PLAN, MAX_STARTS};
 use super::search::DEFAULT_WEIGHTS;
 use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StepArgs, WeightsArg};
 use crate::diagnostics::Failure;
@@ -181,7 +182,111 @@ pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
             shard.format
         )));
     }
+    shard.validate().map_err(|(field, what)| {
+        Failure::input_msg(format!("{}: `{field}` {what}", path.display()))
+    })?;
     Ok(shard)
+}
+
+impl ShardFile {
+    /// Checks what the file says before anything is sized by it (the hash
+    /// does not cover an edited file): the plan within `--plan`'s limits,
+    /// 1 ≤ N ≤ the plan's points, K < N, a finite time of at least 0, and
+    /// each point in this shard's share with exactly one of a finite J ≥ 0
+    /// and a failure. The field at fault and what is wrong otherwise.
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        let (plan, of) = (self.search.plan, self.of);
+        if !(1..=MAX_PLAN).contains(&plan) {
+            return Err(("search.plan", format!("is {plan}: must be 1 to {MAX_PLAN}")));
+        }
+        if !(1..=MAX_STARTS.min(plan)).contains(&self.search.starts) {
+            return Err((
+                "search.starts",
+                format!(
+                    "is {}: must be 1 to the plan's {plan} points and at most {MAX_STARTS}",
+                    self.search.starts
+                ),
+            ));
+        }
+        if !(1..=plan).contains(&of) {
+            return Err((
+                "of",
+                format!("is {of}: must be 1 to the plan's {plan} points"),
+            ));
+        }
+        if self.shard >= of {
+            return Err((
+                "shard",
+                format!("is {}: must be below `of` ({of})", self.shard),
+            ));
+        }
+        if !(self.seconds.is_finite() && self.seconds >= 0.0) {
+            return Err((
+                "seconds",
+                format!("is {}: must be a finite time of at least 0", self.seconds),
+            ));
+        }
+        self.points.iter().try_for_each(|p| self.check_point(p))
+    }
+
+    /// One point of [`Self::validate`].
+    fn check_point(&self, p: &PointRecord) -> Result<(), (&'static str, String)> {
+        if p.index >= self.search.plan || p.index % self.of != self.shard {
+            return Err((
+                "points",
+                format!(
+                    "holds plan point {}, which is not in shard {}/{} of a plan of {} points",
+                    p.index, self.shard, self.of, self.search.plan
+                ),
+            ));
+        }
+        match (p.cost, &p.failure) {
+            (Some(j), None) if j.is_finite() && j >= 0.0 => Ok(()),
+            (Some(j), None) => Err((
+                "points",
+                format!(
+                    "gives plan point {} J = {j}: J is finite and at least 0",
+                    p.index
+                ),
+            )),
+            (None, Some(_)) => Ok(()),
+            (c, _) => Err((
+                "points",
+                format!(
+                    "gives plan point {} {} of `cost` and `failure`: exactly one is needed",
+                    p.index,
+                    if c.is_some() { "both" } else { "neither" }
+                ),
+            )),
+        }
+    }
+
+    /// What is missing from a shard that is not complete, or `None` when
+    /// every point of its share is there once and it is marked complete.
+    pub fn incomplete(&self) -> Option<String> {
+        let mine = share(self.shard, self.of, self.search.plan);
+        let mut have: Vec<usize> = self.points.iter().map(|p| p.index).collect();
+        have.sort_unstable();
+        if let Some(w) = have.windows(2).find(|w| w[0] == w[1]) {
+            return Some(format!("it holds plan point {} twice", w[0]));
+        }
+        if have.len() < mine.len() {
+            let first = mine
+                .iter()
+                .zip(&have)
+                .find(|(a, b)| a != b)
+                .map_or(mine[have.len()], |(a, _)| *a);
+            return Some(format!(
+                "{} of its {} points are done, {} missing (the first: plan point {first})",
+                have.len(),
+                mine.len(),
+                mine.len() - have.len()
+            ));
+        }
+        (!self.complete).then(|| {
+            "all its points are there, but it is not marked complete (its run was stopped before the end)".to_string()
+        })
+    }
 }
 
 /// The plan indices of shard `k` of `n` in a plan of `points`.

@@ -24,6 +24,12 @@ use std::path::Path;
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&args.search)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
+    if let Some((_, n)) = shard.filter(|&(_, n)| n > args.search.plan) {
+        return Err(Failure::input_msg(format!(
+            "--shard: {n} shards of a plan of {} points (--plan): the shards beyond the plan's size would have no point; use at most {} shards",
+            args.search.plan, args.search.plan
+        )));
+    }
     check_combinations(&args, shard.is_some())?;
     let model = stepped(
         fixed(load(&args.model, ui)?, &args.set)?,

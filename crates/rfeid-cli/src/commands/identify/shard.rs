@@ -48,11 +48,14 @@ pub fn run(
         complete: false,
         points: Vec::new(),
     };
-    let to_stdout = args.output == Path::new("-");
-    let mut done = if to_stdout {
-        BTreeMap::new()
-    } else {
+    // Only a regular file (or none yet) holds a shard to resume and takes
+    // checkpoints: standard output, a FIFO or a device gets the file once.
+    let resumable = args.output != Path::new("-")
+        && std::fs::metadata(&args.output).map_or(true, |m| m.is_file());
+    let mut done = if resumable {
         resumed(&args.output, &mut file)?
+    } else {
+        BTreeMap::new()
     };
     let (problem, settings, progress) = prepare(model, measured, &args.search, ui)?;
     progress.bar.finish_and_clear();
@@ -67,7 +70,7 @@ pub fn run(
             mine.len()
         ));
     }
-    let checkpoints = (!to_stdout).then_some(outputs);
+    let checkpoints = resumable.then_some(outputs);
     evaluate(&problem, &plan, &mine, &mut done, &mut file, checkpoints)?;
     file.complete = true;
     write(outputs, &file)?;
@@ -88,20 +91,31 @@ fn resumed(output: &Path, file: &mut ShardFile) -> Result<BTreeMap<usize, PointR
     if !output.exists() {
         return Ok(done);
     }
-    let old = read_shard(output).map_err(|_| {
+    let old = read_shard(output).map_err(|e| {
         Failure::input_msg(format!(
-            "{}: exists and is not a shard file; remove it or choose another -o",
-            output.display()
+            "{}: exists and is not a shard file to resume ({}); remove it or choose another -o",
+            output.display(),
+            e.report
         ))
     })?;
-    if (old.hash.as_str(), old.shard, old.of) != (file.hash.as_str(), file.shard, file.of) {
+    if old.hash != file.hash {
         return Err(Failure::input_msg(format!(
-            "{}: holds shard {}/{} of another run (hash {}, this run's {}); remove it or choose another -o",
+            "{}: holds shard {}/{} of another run (the model, its tables, the data or the search settings differ: hash {}, this run's {}); remove it or choose another -o",
             output.display(),
             old.shard,
             old.of,
             old.hash,
             file.hash
+        )));
+    }
+    if (old.shard, old.of) != (file.shard, file.of) {
+        return Err(Failure::input_msg(format!(
+            "{}: holds shard {}/{} of this run, not {}/{}; remove it or choose another -o",
+            output.display(),
+            old.shard,
+            old.of,
+            file.shard,
+            file.of
         )));
     }
     file.seconds = old.seconds;
