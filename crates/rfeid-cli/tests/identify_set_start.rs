@@ -155,6 +155,10 @@ fn misuse_exits_2_without_output() {
             &["--set", "c=40", "--shard", "0/2"][..],
             "--set or --start values with --shard",
         ),
+        (
+            &["--set", "c=40", "--set", "c=50"][..],
+            "--set 'c=50': c is already set by --set 'c=40'; give each parameter once",
+        ),
     ] {
         let (out, result) = identify(&model, "misuse", args);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -298,3 +298,30 @@ fn shard_auto_names_what_is_unset_and_refuses_stepped_or_list_arrays() {
         assert!(msg.contains(expect), "expected '{expect}' in: {msg}");
     }
 }
+
+#[test]
+fn a_shard_with_json_prints_its_summary_and_one_thread_is_singular() {
+    let dir = scratch_dir("shard-json");
+    let data = data(&dir);
+    let out = dir.join("s.json");
+    let o = rfeid()
+        .arg("identify")
+        .arg(knee_column())
+        .arg("--data")
+        .arg(&data)
+        .args(["--plan", "8", "--shard", "1/2", "--json", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let o = ok(o);
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((v["shard"].as_u64(), v["of"].as_u64()), (Some(1), Some(2)));
+    assert_eq!(v["points"].as_u64(), Some(4));
+    let o = ok(shard(
+        &data,
+        &["--starts", "1", "--threads", "1", "--timings"],
+        &dir.join("r.json"),
+    ));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("(1 thread)"), "{text}");
+}

@@ -65,7 +65,10 @@ impl<'a> Closing<'a> {
             note_report: true,
             output: Some(output),
             written_note: WrittenNote::AfterTables,
-            written: output.display().to_string(),
+            written: match output == std::path::Path::new("-") {
+                true => "standard output".into(),
+                false => output.display().to_string(),
+            },
             reference: "nominal",
             timings,
             epilogue: None,

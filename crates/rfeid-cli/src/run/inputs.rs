@@ -64,8 +64,16 @@ pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<
 /// NAME=VALUE`): each takes its value and loses its box, so it is not
 /// identified.
 pub fn fixed(model: Model, sets: &[String]) -> Result<Model, Failure> {
+    let mut given: Vec<(usize, &str)> = Vec::new();
     sets.iter().try_fold(model, |model, s| {
         let (i, value) = parse_set(&model, s)?;
+        if let Some((_, earlier)) = given.iter().find(|(j, _)| *j == i) {
+            return Err(Failure::input_msg(format!(
+                "--set '{s}': {} is already set by --set '{earlier}'; give each parameter once",
+                model.parameters[i].name
+            )));
+        }
+        given.push((i, s));
         model.with_fixed(i, value).map_err(set_failure)
     })
 }

@@ -91,8 +91,13 @@ pub fn format_result(
         let t = &r.timings;
         let _ = writeln!(
         out,
-            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s, total {:.3} s ({} threads)",
-            t.plan, t.local_search, t.uncertainty, t.total, r.threads
+            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s, total {:.3} s ({} thread{})",
+            t.plan,
+            t.local_search,
+            t.uncertainty,
+            t.total,
+            r.threads,
+            if r.threads == 1 { "" } else { "s" }
         );
     }
     out

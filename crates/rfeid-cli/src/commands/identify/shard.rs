@@ -75,6 +75,17 @@ pub fn run(
     file.complete = true;
     write(outputs, &file)?;
     let failed = file.points.iter().filter(|p| p.cost.is_none()).count();
+    if ui.json {
+        // What the note says, for scripts (the shard itself is in -o).
+        ui.print_json(&serde_json::json!({
+            "shard": k,
+            "of": n,
+            "points": file.points.len(),
+            "failed": failed,
+            "seconds": file.seconds,
+            "output": args.output.display().to_string(),
+        }))?;
+    }
     ui.note(format!(
         "shard {k}/{n}: {} plan points ({} failed) written to {}",
         file.points.len(),
