@@ -280,6 +280,15 @@ pub struct MergeArgs {
     /// Print the wall time of each phase.
     #[arg(long)]
     pub timings: bool,
+    /// The model file, where the one the shards recorded is not found from
+    /// here (the shards record it as `identify` was given it). Its hash must
+    /// still match.
+    #[arg(long, value_name = "MODEL")]
+    pub model: Option<PathBuf>,
+    /// The data file, where the one the shards recorded is not found from
+    /// here. Its hash must still match.
+    #[arg(long, value_name = "DATA")]
+    pub data: Option<PathBuf>,
 }
 
 /// `rfeid demo`.

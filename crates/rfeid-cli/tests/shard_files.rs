@@ -325,3 +325,74 @@ fn a_shard_with_json_prints_its_summary_and_one_thread_is_singular() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("(1 thread)"), "{text}");
 }
+
+#[test]
+fn merge_elsewhere_names_the_recorded_path_and_takes_model_and_data() {
+    let dir = scratch_dir("shard-elsewhere");
+    let data = data(&dir);
+    let (s0, s1) = (dir.join("s0.json"), dir.join("s1.json"));
+    // Recorded relative to a working folder the merge does not run in.
+    let run = |spec: &str, out: &Path| {
+        ok(rfeid()
+            .current_dir(dir.parent().unwrap())
+            .arg("identify")
+            .arg(knee_column())
+            .arg("--data")
+            .arg(Path::new(dir.file_name().unwrap()).join("data.csv"))
+            .args(["--plan", "8", "-q", "--shard", spec, "-o"])
+            .arg(out)
+            .output()
+            .unwrap())
+    };
+    run("0/2", &s0);
+    run("1/2", &s1);
+    // A byte-order mark is no reason to refuse a shard.
+    let text = std::fs::read_to_string(&s1).unwrap();
+    std::fs::write(&s1, format!("\u{feff}{text}")).unwrap();
+    let elsewhere = scratch_dir("shard-elsewhere-cwd");
+    let merged = dir.join("merged.json");
+    let o = rfeid()
+        .current_dir(&elsewhere)
+        .arg("merge")
+        .args([&s0, &s1])
+        .arg("-o")
+        .arg(&merged)
+        .output()
+        .unwrap();
+    let msg = flat(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{msg}");
+    assert!(
+        msg.contains("records the file") && msg.contains("--data PATH"),
+        "{msg}"
+    );
+    let o = rfeid()
+        .current_dir(&elsewhere)
+        .arg("merge")
+        .args([&s0, &s1])
+        .arg("--data")
+        .arg(&data)
+        .args(["-q", "-o"])
+        .arg(&merged)
+        .output()
+        .unwrap();
+    assert!(
+        matches!(o.status.code(), Some(0 | 3 | 4)),
+        "{}",
+        flat(&o.stderr)
+    );
+    // A shard file is not a result.
+    let o = rfeid()
+        .arg("validate")
+        .arg(knee_column())
+        .arg(&s0)
+        .arg("--data")
+        .arg(&data)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        flat(&o.stderr).contains("a shard file of `identify --shard`, not a result"),
+        "{}",
+        flat(&o.stderr)
+    );
+}

@@ -34,18 +34,18 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     let first = &shards[0];
     let first_path = &args.shards[0];
     check_together(&args, &shards)?;
-    let model_path = resolve(&first.model, first_path);
-    let data_path = resolve(&first.data, first_path);
+    let model_path = recorded(args.model.as_deref(), &first.model, first_path, "--model")?;
+    let data_path = recorded(args.data.as_deref(), &first.data, first_path, "--data")?;
     let model = load(&model_path, ui)?;
     let outputs = check_outputs(&args, &model, &model_path, &data_path)?;
     json_conflict(ui, &outputs)?;
     let hash = run_hash(&model_path, &model, &data_path, &first.search)?;
     if hash != first.hash {
         return Err(Failure::input_msg(format!(
-            "{} or {} changed since the shards were computed (hash {hash}, the shards' {}): run the shards again",
+            "the run's inputs changed since the shards were computed (hash {hash}, the shards' {}): the model file {}, its signal tables, the data file {} or the search settings; run the shards again",
+            first.hash,
             model_path.display(),
             data_path.display(),
-            first.hash
         )));
     }
     let measured = load_data(&data_path, &model, ui)?;
@@ -79,6 +79,29 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     // merge does not note where the report went.
     closing.note_report = false;
     close(&outputs, closing, ui)
+}
+
+/// The model or data file of the run: `given` (`flag`), else the path the
+/// first shard recorded ([`resolve`]d); one not found says where the path
+/// came from.
+fn recorded(
+    given: Option<&Path>,
+    recorded: &str,
+    shard: &Path,
+    flag: &str,
+) -> Result<std::path::PathBuf, Failure> {
+    if let Some(p) = given {
+        return Ok(p.to_path_buf());
+    }
+    let path = resolve(recorded, shard);
+    if !path.exists() {
+        return Err(Failure::input_msg(format!(
+            "{}: records the file '{recorded}', which is not found from here ({}): run merge from the folder `identify --shard` ran in, or give {flag} PATH",
+            shard.display(),
+            path.display()
+        )));
+    }
+    Ok(path)
 }
 
 /// The merge's inputs (model, data, shards) and outputs, checked.

@@ -15,8 +15,18 @@ pub type ReportFiles = Vec<(String, String)>;
 pub fn read_result(path: &Path) -> Result<IdentificationResult, Failure> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
-    serde_json::from_str(&text)
-        .map_err(|e| Failure::input_msg(format!("{}: not an rfeid result: {e}", path.display())))
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    serde_json::from_str(text).map_err(|e| {
+        let shard = serde_json::from_str::<serde_json::Value>(text)
+            .is_ok_and(|v| v["format"] == super::shard_file::FORMAT);
+        match shard {
+            true => Failure::input_msg(format!(
+                "{}: a shard file of `identify --shard`, not a result: merge the shards first (rfeid merge SHARD… -o RESULT.json)",
+                path.display()
+            )),
+            false => Failure::input_msg(format!("{}: not an rfeid result: {e}", path.display())),
+        }
+    })
 }
 
 /// The report of a campaign: the fitted experiments' sensors side by side

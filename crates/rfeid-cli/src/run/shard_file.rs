@@ -172,7 +172,9 @@ pub fn run_hash(
 pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
-    let shard: ShardFile = serde_json::from_str(&text).map_err(|e| {
+    // A byte-order mark (an editor's) is not JSON; it is no reason to refuse.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let shard: ShardFile = serde_json::from_str(text).map_err(|e| {
         Failure::input_msg(format!("{}: not an rfeid shard file: {e}", path.display()))
     })?;
     if shard.format != FORMAT {

@@ -74,7 +74,14 @@ fn write_fits_and_minima(out: &mut String, v: &Verdict) {
                 )
             })
             .collect();
-        let _ = writeln!(out, "minima reached by the starts: {}", list.join(", "));
+        // The ends are compared in the weighting their searches used; the
+        // criterion J above is in the final one (estimated weights, noise
+        // model), so the two differ.
+        let _ = writeln!(
+            out,
+            "minima reached by the starts (J in the weighting of their searches): {}",
+            list.join(", ")
+        );
     }
 }
 
