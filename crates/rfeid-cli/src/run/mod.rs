@@ -23,5 +23,7 @@ pub mod report;
 pub mod search;
 pub mod shard_arg;
 pub mod shard_file;
+#[cfg(test)]
+mod shard_fuzz;
 pub mod show;
 pub mod verdict_text;

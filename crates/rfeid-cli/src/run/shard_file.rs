@@ -172,14 +172,22 @@ pub fn run_hash(
 pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    parse_shard(&text, path)
+}
+
+/// A shard file's `text`, read from `path`: parsed, its format checked, and
+/// its content validated ([`ShardFile::validate`]); a refusal names the
+/// file and the field (or the line and column of broken JSON).
+pub fn parse_shard(text: &str, path: &Path) -> Result<ShardFile, Failure> {
     // A byte-order mark (an editor's) is not JSON; it is no reason to refuse.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    let shard: ShardFile = serde_json::from_str(text).map_err(|e| {
-        Failure::input_msg(format!("{}: not an rfeid shard file: {e}", path.display()))
-    })?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut de = serde_json::Deserializer::from_str(text);
+    let shard: ShardFile = serde_path_to_error::deserialize(&mut de)
+        .map_err(|e| not_a_shard(path, &e.path().to_string(), e.inner()))?;
+    de.end().map_err(|e| not_a_shard(path, ".", &e))?;
     if shard.format != FORMAT {
         return Err(Failure::input_msg(format!(
-            "{}: format '{}', expected '{FORMAT}'",
+            "{}: `format` is '{}', expected '{FORMAT}'",
             path.display(),
             shard.format
         )));
@@ -188,6 +196,19 @@ pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
         Failure::input_msg(format!("{}: `{field}` {what}", path.display()))
     })?;
     Ok(shard)
+}
+
+/// A shard file that does not parse: the file, the field at `field` (`.`:
+/// none, the JSON itself), and serde's message (with line and column).
+fn not_a_shard(path: &Path, field: &str, e: &serde_json::Error) -> Failure {
+    let at = match field {
+        "." | "" => String::new(),
+        f => format!("`{f}`: "),
+    };
+    Failure::input_msg(format!(
+        "{}: not an rfeid shard file: {at}{e}",
+        path.display()
+    ))
 }
 
 impl ShardFile {
