@@ -180,11 +180,15 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
     );
     call(&id(&m), &["campaign.toml", "experiment", "set", "Q"]);
 
-    // A missing data file.
+    // A missing data file: identify and check refuse it alike.
     let m = campaign_model(&dir, THREE);
     simulate_experiment(&dir, &m, "a", 1);
     simulate_experiment(&dir, &m, "v", 3);
     call(&id(&m), &["campaign.toml", "\"b\"", "data", "b.csv"]);
+    call(
+        &[os("check"), m.as_os_str().to_owned()],
+        &["campaign.toml", "\"b\"", "data", "b.csv"],
+    );
 
     // Data lacking a sensor the experiment names.
     let text = std::fs::read_to_string(dir.join("a.csv")).unwrap();
@@ -194,6 +198,10 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
         .collect();
     std::fs::write(dir.join("b.csv"), cut).unwrap();
     call(&id(&m), &["campaign.toml", "\"b\"", "data", "acc_x"]);
+    call(
+        &[os("check"), m.as_os_str().to_owned()],
+        &["campaign.toml", "\"b\"", "data", "acc_x"],
+    );
 
     // --data with a model that lists experiments.
     let mut v = id(&m);

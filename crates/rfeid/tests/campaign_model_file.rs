@@ -149,6 +149,12 @@ fn each_mistake_names_its_entry_and_field() {
             "colour",
             "unknown field",
         ),
+        (
+            "name = \"a\"\ndata = \"a.csv\"\nexcitations = []",
+            "experiment \"a\"",
+            "excitations",
+            "nothing excites this test",
+        ),
     ];
     let (text, path) = base();
     for (body, entry, field, says) in cases {
@@ -169,6 +175,17 @@ fn each_mistake_names_its_entry_and_field() {
     assert_eq!(
         (e.field.as_str(), e.message.contains("duplicate")),
         ("name", true)
+    );
+    // One table `[experiment]` beside `[[experiment]]` entries: named as
+    // such, not as the key above it (a comment's or the last parameter's).
+    let single = format!(
+        "{text}\n[experiment]\nname = \"a\"\ndata = \"a.csv\"\n# x = 1\n[[experiment]]\nname = \"b\"\ndata = \"b.csv\"\n"
+    );
+    let e = parse_model(&single, &path).unwrap_err();
+    assert_eq!(e.field, "experiment", "{e}");
+    assert!(
+        e.message.contains("write every one as [[experiment]]"),
+        "{e}"
     );
     let none_fitted =
         format!("{text}\n[[experiment]]\nname = \"a\"\ndata = \"a.csv\"\nuse = \"validation\"\n");

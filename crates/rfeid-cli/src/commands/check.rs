@@ -2,6 +2,7 @@
 use crate::cli::CheckArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
+use crate::run::experiments::campaign_data;
 use crate::run::inputs::load;
 use crate::ui::Ui;
 use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
@@ -9,10 +10,18 @@ use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
 /// Runs the command.
 pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
     let model = load(&args.model, ui)?;
+    // A campaign names its data: read them as identify would, so that a
+    // missing, short or mismatched file shows here and not after a plan.
+    if !model.experiments.is_empty() {
+        campaign_data(&model, &args.model, ui)?;
+    }
     if ui.json {
         return ui.print_json(&json_summary(&model));
     }
     print!("{}", summary(&model));
+    if !model.experiments.is_empty() {
+        println!("\ndata: every experiment's file read and matched to its sensors and sampling");
+    }
     println!("\n{}: OK", args.model.display());
     Ok(())
 }

@@ -313,11 +313,19 @@ pub(super) fn unit_symbol(t: &str) -> &str {
 /// A TOML syntax or schema error. An unknown key (a typo) is named as the
 /// field, in the entry that holds it.
 pub(super) fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<ModelFileError> {
-    let message = e.message().to_string();
+    let mut message = e.message().to_string();
+    let header = e.span().and_then(|span| header_at(text, span.start));
+    if let (Some(name), true) = (&header, message.contains("duplicate key")) {
+        // `[experiment]` (one table) beside `[[experiment]]` entries.
+        message = format!(
+            "{message}: '{name}' is written both as one table [{name}] and as entries [[{name}]]; write every one as [[{name}]]"
+        );
+    }
     let field = message
         .strip_prefix("unknown field `")
         .and_then(|m| m.split('`').next())
         .map(str::to_string)
+        .or(header)
         .or_else(|| e.span().and_then(|span| key_before(text, span.start)))
         .unwrap_or_default();
     let entry = e
@@ -333,6 +341,12 @@ pub(super) fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<Mode
 fn key_before(text: &str, pos: usize) -> Option<String> {
     let before = text.get(..pos)?;
     for line in before.rsplit('\n').take(50) {
+        if header_name(line).is_some() {
+            // The value would start after its table's header.
+            return None;
+        }
+        // A comment's `=` is no key's.
+        let line = line.split_once('#').map_or(line, |(code, _)| code);
         if let Some((left, _)) = line.rsplit_once('=') {
             let key = left
                 .rsplit(['{', ',', '['])
@@ -345,6 +359,27 @@ fn key_before(text: &str, pos: usize) -> Option<String> {
         }
     }
     None
+}
+
+/// The table name of the header on the line that holds byte `pos`.
+fn header_at(text: &str, pos: usize) -> Option<String> {
+    let start = text.get(..pos)?.rfind('\n').map_or(0, |i| i + 1);
+    let line = text[start..].split('\n').next()?;
+    header_name(line)
+}
+
+/// The name of a `[name]` or `[[name]]` header line (a comment may
+/// follow); `None` for any other line (an array's row such as
+/// `[0, 1, 0],` included).
+fn header_name(line: &str) -> Option<String> {
+    let code = line.split_once('#').map_or(line, |(code, _)| code).trim();
+    let inner = match code.strip_prefix("[[") {
+        Some(rest) => rest.strip_suffix("]]")?,
+        None => code.strip_prefix('[')?.strip_suffix(']')?,
+    };
+    let name = inner.trim();
+    let plain = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
+    (!name.is_empty() && name.chars().all(plain)).then(|| name.to_string())
 }
 
 /// The entry (`body "knee"`, `element #2`, `[simulation]` …) whose table

@@ -91,6 +91,18 @@ fn experiment(
     let names_s: Vec<&str> = declared.sensors.iter().map(|s| s.name.as_str()).collect();
     let sensors = pick(ctx, &rx.sensors, &names_s, entry, "sensors", false)?;
     let role = role(ctx, rx, entry)?;
+    if let (Some(list), Role::Fit) = (&rx.excitations, &role) {
+        // A validation test may record a free or ambient response; a fitted
+        // one without an excitation would fit a response that is zero.
+        if list.get_ref().is_empty() {
+            return Err(ctx.err(
+                Some(list.span()),
+                entry,
+                "excitations",
+                "the list is empty: nothing excites this test, so its simulated response is zero and there is nothing to fit (list its excitations, or give it use = \"validation\")",
+            ));
+        }
+    }
     let weight = weight(ctx, rx, entry)?;
     Ok(Experiment {
         name,
