@@ -117,7 +117,7 @@ fn ten_thousand_mutated_campaign_files_are_refused_with_a_place_or_accepted() {
             mutate(&mut lines, &mut rng);
         }
         let text = text_of(&lines, &mut rng);
-        let outcome = std::panic::catch_unwind(|| parse_model(&text, &path));
+        let outcome = std::panic::catch_unwind(|| parse_model(&text, &path).map_err(Box::new));
         let Ok(result) = outcome else {
             panic!("case {case} panicked on:\n{text}");
         };
