@@ -182,6 +182,10 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
 
     // A missing data file: identify and check refuse it alike.
     let m = campaign_model(&dir, THREE);
+    // --set of a parameter the experiments set: they would override it.
+    let mut v = id(&m);
+    v.extend([os("--set"), os("P=50")]);
+    call(&v, &["--set 'P=50'", "experiments a, b, v", "override"]);
     simulate_experiment(&dir, &m, "a", 1);
     simulate_experiment(&dir, &m, "v", 3);
     call(&id(&m), &["campaign.toml", "\"b\"", "data", "b.csv"]);
@@ -255,6 +259,32 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
         &["plain.json", "parameters", "'k'", "other.toml"],
         &rep,
     );
+    // A result with an estimate deleted, or listed twice.
+    let full: Value = json(&r);
+    for (edit, says) in [(0, "'c', identified in"), (1, "'k' is listed twice")] {
+        let mut v = full.clone();
+        let list = v["parameters"].as_array_mut().unwrap();
+        match edit {
+            0 => list.retain(|p| p["name"] != "c"),
+            _ => {
+                let k = list.iter().find(|p| p["name"] == "k").unwrap().clone();
+                list.push(k);
+            }
+        }
+        let edited = dir.join("edited.json");
+        std::fs::write(&edited, serde_json::to_vec(&v).unwrap()).unwrap();
+        let args = [
+            os("validate"),
+            plain.as_os_str().to_owned(),
+            edited.as_os_str().to_owned(),
+            os("--data"),
+            data.as_os_str().to_owned(),
+            os("--report"),
+            rep.as_os_str().to_owned(),
+        ];
+        let vv: Vec<&std::ffi::OsStr> = args.iter().map(|s| s.as_os_str()).collect();
+        refused(&vv, &["edited.json", "parameters", says], &rep);
+    }
     let v = [
         os("validate"),
         m.as_os_str().to_owned(),

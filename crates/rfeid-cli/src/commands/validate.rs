@@ -201,15 +201,38 @@ fn check_belongs(
     result: &IdentificationResult,
     args: &ValidateArgs,
 ) -> Result<(), Failure> {
-    for p in &result.parameters {
+    let refuse = |what: String| {
+        Err(Failure::input_msg(format!(
+            "{}: field 'parameters': {what}",
+            args.result.display()
+        )))
+    };
+    for (k, p) in result.parameters.iter().enumerate() {
         let Ok(column) = p.name.parse::<ColumnName>();
         if model.parameter_index(&column.name).is_none() {
-            return Err(Failure::input_msg(format!(
-                "{}: field 'parameters': '{}' is not a parameter of {}: the result belongs to another model",
-                args.result.display(),
+            return refuse(format!(
+                "'{}' is not a parameter of {}: the result belongs to another model",
                 p.name,
                 args.model.display()
-            )));
+            ));
+        }
+        if result.parameters[..k].iter().any(|q| q.name == p.name) {
+            return refuse(format!("'{}' is listed twice", p.name));
+        }
+    }
+    // The other direction: every parameter the model identifies has its
+    // estimate in the result (else it would be simulated at its nominal value).
+    for q in model.parameters.iter().filter(|q| q.bounds.is_some()) {
+        let held = result
+            .parameters
+            .iter()
+            .any(|p| p.name.parse::<ColumnName>().is_ok_and(|c| c.name == q.name));
+        if !held {
+            return refuse(format!(
+                "'{}', identified in {}, has no estimate: the result belongs to another model, or was edited",
+                q.name,
+                args.model.display()
+            ));
         }
     }
     Ok(())

@@ -74,6 +74,21 @@ pub fn fixed(model: Model, sets: &[String]) -> Result<Model, Failure> {
             )));
         }
         given.push((i, s));
+        let setters: Vec<&str> = model
+            .experiments
+            .iter()
+            .filter(|x| x.set.iter().any(|(j, _)| *j == i))
+            .map(|x| x.name.as_str())
+            .collect();
+        if !setters.is_empty() {
+            // Each experiment's own `set` would win over it, silently.
+            return Err(Failure::input_msg(format!(
+                "--set '{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
+                model.parameters[i].name,
+                if setters.len() == 1 { "" } else { "s" },
+                setters.join(", ")
+            )));
+        }
         model.with_fixed(i, value).map_err(set_failure)
     })
 }
