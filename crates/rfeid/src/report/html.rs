@@ -217,7 +217,10 @@ fn summary_rows(input: &ReportInput) -> Vec<(&'static str, String)> {
             "fit per sensor (100 (1 − ‖y − ŷ‖/‖y − ȳ‖))",
             sensor_fits_text(r),
         ),
-        ("minima reached by the starts", minima_text(r)),
+        (
+            "minima reached by the starts (J in the weighting of their searches)",
+            minima_text(r),
+        ),
         ("noise model per sensor", noise_text(r)),
         ("method", method_text(r)),
         ("integrator", integrator_text(r)),

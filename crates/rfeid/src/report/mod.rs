@@ -200,9 +200,13 @@ fn check(input: &ReportInput) -> Result<(), ReportError> {
     Ok(())
 }
 
-/// A file name made of ASCII letters, digits, `-` and `_`.
+/// A file name made of ASCII letters, digits, `-` and `_`, at most
+/// [`STEM_CHARS`] of them: a sensor or experiment name may be longer than a
+/// file system allows a file name to be (the figures are numbered, so
+/// shortened names do not collide).
 fn file_stem(name: &str) -> String {
     name.chars()
+        .take(STEM_CHARS)
         .map(|c| {
             if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
                 c
@@ -211,6 +215,21 @@ fn file_stem(name: &str) -> String {
             }
         })
         .collect()
+}
+
+/// The most characters of a name a figure's file name keeps.
+const STEM_CHARS: usize = 64;
+
+#[cfg(test)]
+mod file_name_tests {
+    use super::file_stem;
+
+    #[test]
+    fn names_become_short_plain_file_stems() {
+        assert_eq!(file_stem("knee_ax[low]"), "knee_ax_low_");
+        let long = "é".repeat(300);
+        assert_eq!(file_stem(&long), "_".repeat(64));
+    }
 }
 
 /// Every figure of the report, in page order.

@@ -67,17 +67,30 @@ fn fastest_mode_text(fastest_hz: &Option<f64>, sample_rate: f64, substeps: usize
     }
 }
 
+/// What to do about a divergence, by whether `substeps` was fixed.
+fn divergence_advice(fixed: bool) -> &'static str {
+    match fixed {
+        true => {
+            "steps that long are unstable for it: leave `substeps` unset so that steps are \
+             chosen from `tolerance`, or raise `substeps`"
+        }
+        false => {
+            "the steps chosen for `tolerance` are unstable at these parameter values: a \
+             smaller `tolerance` takes more steps per sample, or fix `substeps`"
+        }
+    }
+}
+
 /// Why a simulation failed. During identification such a point is recorded
 /// as failed, never fatal.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SimulationError {
     /// The state grew without bound or became NaN.
     #[error(
-        "the response diverged at t = {time:.6} s (state not finite or beyond 1e6){}; \
-         steps that long are unstable for it: leave `substeps` unset so that steps are chosen \
-         from `tolerance`, or raise `substeps`; a mode far above the sample rate may also be \
-         an unintended stiffness (see `rfeid modal`)",
-        fastest_mode_text(fastest_hz, *sample_rate, *substeps)
+        "the response diverged at t = {time:.6} s (state not finite or beyond 1e6){}; {}; \
+         a mode far above the sample rate may also be an unintended stiffness (see `rfeid modal`)",
+        fastest_mode_text(fastest_hz, *sample_rate, *substeps),
+        divergence_advice(*fixed)
     )]
     Diverged {
         /// Sample time at which it was detected, s.
@@ -89,6 +102,9 @@ pub enum SimulationError {
         sample_rate: f64,
         /// Integrator steps per sample.
         substeps: usize,
+        /// Whether the model fixed them (`substeps`), rather than
+        /// `tolerance` choosing them.
+        fixed: bool,
     },
     /// No number of steps per sample up to [`MAX_SUBSTEPS`] meets the tolerance.
     #[error(

@@ -158,6 +158,7 @@ impl<'m> Simulator<'m> {
                         fastest_hz: fastest_mode_hz(self.model, params),
                         sample_rate: sampling.sample_rate,
                         substeps,
+                        fixed: sampling.substeps.is_some(),
                     });
                 }
                 record(

@@ -276,5 +276,9 @@ mod tests {
         let e = choose_steps(&m, &m.nominal(), 1e-8, 1).unwrap_err();
         assert!(matches!(e, SimulationError::Diverged { .. }), "{e}");
         assert!(e.to_string().contains("fastest mode"), "{e}");
+        // The steps were chosen, not fixed: the advice is about `tolerance`.
+        let text = e.to_string();
+        assert!(text.contains("smaller `tolerance`"), "{e}");
+        assert!(!text.contains("leave `substeps` unset"), "{e}");
     }
 }
