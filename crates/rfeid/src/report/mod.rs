@@ -220,18 +220,6 @@ fn file_stem(name: &str) -> String {
 /// The most characters of a name a figure's file name keeps.
 const STEM_CHARS: usize = 64;
 
-#[cfg(test)]
-mod file_name_tests {
-    use super::file_stem;
-
-    #[test]
-    fn names_become_short_plain_file_stems() {
-        assert_eq!(file_stem("knee_ax[low]"), "knee_ax_low_");
-        let long = "é".repeat(300);
-        assert_eq!(file_stem(&long), "_".repeat(64));
-    }
-}
-
 /// Every figure of the report, in page order.
 pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
     let r = input.result;
@@ -459,4 +447,16 @@ pub fn response_svg(model: &Model, time: &[f64], response: &Response) -> String 
         })
         .collect();
     signals::response_figure(time, &channels)
+}
+
+#[cfg(test)]
+mod file_name_tests {
+    use super::file_stem;
+
+    #[test]
+    fn names_become_short_plain_file_stems() {
+        assert_eq!(file_stem("knee_ax[low]"), "knee_ax_low_");
+        let long = "é".repeat(300);
+        assert_eq!(file_stem(&long), "_".repeat(64));
+    }
 }
