@@ -240,7 +240,7 @@ pub struct IdentifyArgs {
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
     /// Evaluate only shard K of N of the plan (points whose index mod N is K, K = 0 … N−1) and write them to `-o` as a shard file for `rfeid merge`; `auto` takes K and N from SLURM_ARRAY_TASK_ID (minus SLURM_ARRAY_TASK_MIN) and SLURM_ARRAY_TASK_COUNT. A shard file already at `-o` from the same run is resumed.
-    #[arg(long, value_name = "K/N|auto")]
+    #[arg(long, value_name = "K/N|auto", allow_hyphen_values = true)]
     pub shard: Option<String>,
     /// Fix a parameter for this run, e.g. `--set m=1.5` or `--set P0="20 daN"` (repeatable): it takes the value and is not identified, even if the model file gives it a box. RESULT.json records the settings, and `rfeid report` applies them again.
     #[arg(long = "set", value_name = "NAME=VALUE")]

@@ -159,6 +159,14 @@ fn misuse_exits_2_without_output() {
             &["--set", "c=40", "--set", "c=50"][..],
             "--set 'c=50': c is already set by --set 'c=40'; give each parameter once",
         ),
+        (
+            &["--shard", "-1/3"][..],
+            "--shard '-1/3': expected K/N with 0 <= K < N",
+        ),
+        (
+            &["--tolerance", "0.00000000000001"][..],
+            "--tolerance 1e-14: must be",
+        ),
     ] {
         let (out, result) = identify(&model, "misuse", args);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -99,7 +99,7 @@ pub fn stepped(model: Model, a: &StepArgs) -> Result<Model, Failure> {
         .with_steps(a.tolerance, a.substeps)
         .map_err(|e| match e {
             EditError::Tolerance(t) => Failure::input_msg(format!(
-                "--tolerance {t}: {}",
+                "--tolerance {t:e}: {}",
                 rfeid::simulation::steps::tolerance_range_text()
             )),
             EditError::Substeps(s) => {
