@@ -373,7 +373,7 @@ pub enum UnitError {
         text: String,
     },
     /// A character that cannot start a unit symbol or follow one.
-    #[error("unexpected '{found}' in \"{text}\"; units are joined by '*', '·' or '/'")]
+    #[error("unexpected '{found}' in \"{text}\"; {}", unexpected_hint(*found, text))]
     UnexpectedChar {
         /// The offending character.
         found: char,
@@ -423,6 +423,24 @@ fn describe_found(found: &Dimension) -> String {
         "a dimensionless value".to_string()
     } else {
         found.to_string()
+    }
+}
+
+/// What to write instead of an unexpected character: a decimal comma
+/// between digits (`20,5 N`) gets the decimal point, anything else how units
+/// are joined.
+fn unexpected_hint(found: char, text: &str) -> &'static str {
+    let digits = |a: Option<char>, b: Option<char>| {
+        a.is_some_and(|c| c.is_ascii_digit()) && b.is_some_and(|c| c.is_ascii_digit())
+    };
+    let decimal_comma = found == ','
+        && text
+            .char_indices()
+            .filter(|&(_, c)| c == ',')
+            .any(|(i, _)| digits(text[..i].chars().next_back(), text[i + 1..].chars().next()));
+    match decimal_comma {
+        true => "the decimal separator is a point: write 20.5, not 20,5",
+        false => "units are joined by '*', '·' or '/'",
     }
 }
 
@@ -884,6 +902,11 @@ mod tests {
                 assert_eq!(quoted, input.trim(), "{input:?}");
             }
         }
+        // A decimal comma gets the decimal point as its hint; other
+        // unexpected characters, how units are joined.
+        assert!(err("20,5 N").to_string().contains("write 20.5, not 20,5"));
+        assert!(err("1 N m").to_string().contains("units are joined by"));
+        assert!(err("1 N, m").to_string().contains("units are joined by"));
         let unit = |e| match e {
             UnitError::UnknownUnit { unit, .. } => unit,
             e => panic!("{e:?}"),
