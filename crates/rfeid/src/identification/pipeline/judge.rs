@@ -44,13 +44,7 @@ fn own_filter(sig: &FitSignal<'_>, s: &VerdictSettings, noise_model: NoiseModel)
     if fitted_exactly(sig, s) {
         return Vec::new();
     }
-    let e: Vec<f64> = sig
-        .fitted
-        .iter()
-        .zip(sig.measured)
-        .map(|(g, y)| g - y)
-        .collect();
-    noise_model.filter(&e)
+    noise_model.filter(&sig.residuals())
 }
 
 /// Every sensor of every experiment, named `sensor[experiment]` in a

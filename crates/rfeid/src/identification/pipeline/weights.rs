@@ -151,13 +151,8 @@ impl Update {
                 u.ssr_held.push(0.0);
                 continue;
             }
-            let e: Vec<f64> = sig
-                .fitted
-                .iter()
-                .zip(sig.measured)
-                .map(|(g, y)| g - y)
-                .collect();
-            let filter = model.fit(&e).map(|m| m.coefficients).unwrap_or_default();
+            let e = sig.residuals();
+            let filter = model.filter(&e);
             u.ssr_held.push(whitened_ssr(sig.whitening, &e));
             u.ssr_new.push(whitened_ssr(&filter, &e));
             u.filters.push(filter);

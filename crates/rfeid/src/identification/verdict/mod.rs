@@ -190,6 +190,17 @@ pub struct FitSignal<'a> {
     pub sample_rate: f64,
 }
 
+impl FitSignal<'_> {
+    /// The residuals, fitted minus measured, sample by sample.
+    pub fn residuals(&self) -> Vec<f64> {
+        self.fitted
+            .iter()
+            .zip(self.measured)
+            .map(|(g, y)| g - y)
+            .collect()
+    }
+}
+
 /// Draws the verdict (see the module documentation).
 pub fn assess(e: &Evidence<'_>, s: &VerdictSettings) -> Verdict {
     let mut reasons = Vec::new();
