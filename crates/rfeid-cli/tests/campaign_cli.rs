@@ -140,6 +140,68 @@ fn validation_experiment_and_validate_command() {
         table.contains("v (validation)") && table.contains("a (fit)"),
         "{table}"
     );
+    // `validate --report` on one experiment of a campaign result: a fitted
+    // one and the validation one, each with its own sensors' signals.
+    for name in ["b", "v"] {
+        let rep = dir.join(format!("validate-{name}"));
+        let o = rfeid()
+            .arg("validate")
+            .arg(&model)
+            .arg(&out)
+            .args(["--experiment", name, "--report"])
+            .arg(&rep)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{name}: {}", flat(&o.stderr));
+        let html = std::fs::read_to_string(rep.join("report.html")).unwrap();
+        assert!(
+            html.contains(&format!("acc_x[{name}]")),
+            "{name}: no acc_x[{name}]"
+        );
+        assert!(
+            !html.contains("acc_x[a]"),
+            "{name}: another experiment's sensor"
+        );
+    }
+    // A data file that changed since the fit: `report` refuses it, naming
+    // the file, and writes nothing.
+    simulate_experiment(&dir, &model, "b", 9);
+    let rep = dir.join("report-after-change");
+    let o = rfeid()
+        .arg("report")
+        .arg(&out)
+        .arg("-o")
+        .arg(&rep)
+        .output()
+        .unwrap();
+    let msg = flat(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{msg}");
+    assert!(
+        msg.contains("b.csv changed") && msg.contains("r.json"),
+        "{msg}"
+    );
+    assert!(!rep.exists());
+    // `validate` compares with data of its choosing, the changed file too;
+    // a changed model file is named in a warning.
+    let edited = dir.join("edited.toml");
+    std::fs::write(
+        &edited,
+        std::fs::read_to_string(&model).unwrap() + "\n# edited\n",
+    )
+    .unwrap();
+    let o = rfeid()
+        .arg("validate")
+        .arg(&edited)
+        .arg(&out)
+        .args(["--experiment", "b"])
+        .output()
+        .unwrap();
+    let msg = flat(&o.stderr);
+    assert!(o.status.success(), "{msg}");
+    assert!(
+        msg.contains("warning: the model file") && msg.contains("edited.toml"),
+        "{msg}"
+    );
 }
 
 /// Runs `args` and checks exit 2, that stderr names every one of `names`,

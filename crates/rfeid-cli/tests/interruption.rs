@@ -6,7 +6,7 @@ mod support;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use support::{finished, oscillator_model, rfeid, scratch_dir, simulate_csv, temporaries};
+use support::{finished, flat, oscillator_model, rfeid, scratch_dir, simulate_csv, temporaries};
 
 /// Interruptions tried.
 const TRIES: usize = 16;
@@ -24,6 +24,7 @@ fn start(dir: &Path, model: &Path, data: &Path) -> std::process::Child {
         .arg(dir.join("report"))
         .args(["--plan", "64", "-q", "--threads", "1"])
         .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap()
 }
@@ -105,7 +106,8 @@ fn sigint_leaves_old_or_new_outputs_whole_and_no_temporaries() {
         std::thread::sleep(delay);
         // SAFETY: signalling our own child by its id.
         unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
-        let status = child.wait_with_output().unwrap().status;
+        let output = child.wait_with_output().unwrap();
+        let status = output.status;
         eprintln!("try {k}: SIGINT after {delay:?}: {status:?}");
         assert!(
             finished(status) || status.code() == Some(130),
@@ -117,6 +119,19 @@ fn sigint_leaves_old_or_new_outputs_whole_and_no_temporaries() {
             titled,
             "try {k} ({delay:?}): the result and the report come from different runs"
         );
+        // An interruption says so, and whether the outputs were written.
+        if status.code() == Some(130) {
+            let msg = flat(&output.stderr);
+            assert!(
+                msg.contains("interrupted by SIGINT (exit status 130)"),
+                "try {k}: {msg}"
+            );
+            assert_eq!(
+                msg.contains("no output was written"),
+                titled == "old.csv",
+                "try {k}: {msg}"
+            );
+        }
         if titled == "old.csv" {
             olds += 1;
         } else {

@@ -1,10 +1,8 @@
 //! `--report`, `rfeid report`, `simulate --plot`, `--json` and `--quiet`.
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod support;
 
-fn rfeid() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_rfeid"))
-}
+use std::path::{Path, PathBuf};
+use support::{flat, identify, oscillator_model, rfeid, scratch_dir, simulate_csv};
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rfeid-cli-report-{}", std::process::id()));
@@ -84,4 +82,49 @@ fn json_and_quiet() {
     );
     let plot = std::fs::read_to_string(&svg).unwrap();
     assert!(plot.starts_with("<svg") && plot.contains("knee_az"));
+}
+
+/// `rfeid report` refuses a model file, signal table or data file that
+/// changed since the identification (the report would draw the old fit
+/// table beside the new signals), naming the file and writing nothing; the
+/// unchanged files give the report.
+#[test]
+fn report_refuses_inputs_changed_since_the_fit() {
+    let dir = scratch_dir("report-changed");
+    let model = oscillator_model(&dir);
+    let data = simulate_csv(&dir, &model);
+    let result = dir.join("r.json");
+    let o = identify(&model, &data, &result)
+        .args(["--plan", "4", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", flat(&o.stderr));
+    let report = |name: &str| {
+        rfeid()
+            .arg("report")
+            .arg(&result)
+            .arg("-o")
+            .arg(dir.join(name))
+            .output()
+            .unwrap()
+    };
+    assert!(report("rep-same").status.success());
+    let original = std::fs::read(&data).unwrap();
+    for (file, edit) in [(&data, "data.csv"), (&model, "oscillator.toml")] {
+        let before = std::fs::read(file).unwrap();
+        let mut changed = before.clone();
+        changed.extend_from_slice(b"\n");
+        std::fs::write(file, &changed).unwrap();
+        let o = report("rep-changed");
+        let msg = flat(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{edit}: {msg}");
+        assert!(
+            msg.contains(&format!("{edit} changed")) && msg.contains("r.json"),
+            "{msg}"
+        );
+        assert!(!dir.join("rep-changed").exists());
+        std::fs::write(file, &before).unwrap();
+    }
+    assert_eq!(std::fs::read(&data).unwrap(), original);
+    assert!(report("rep-restored").status.success());
 }

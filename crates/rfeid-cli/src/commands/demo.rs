@@ -48,7 +48,7 @@ pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
         Some(dir) => {
             let reference = reference_of(&model, &result);
             let title = demo_title(&result);
-            let files = render(&model, &result, &data, Some(&reference), &title)?;
+            let files = render(&model, &result, "", &data, Some(&reference), &title)?;
             Some((dir.as_path(), files))
         }
         None => None,

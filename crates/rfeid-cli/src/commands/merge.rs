@@ -13,6 +13,7 @@ use crate::cli::MergeArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
+use crate::run::digest::input_digests;
 use crate::run::failures::identify_failure;
 use crate::run::inputs::{load, load_data, stepped};
 use crate::run::report::render;
@@ -65,12 +66,17 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         .map_err(identify_failure)?;
     result.source.model = Some(first.model.clone());
     result.source.data = Some(first.data.clone());
+    result.source.digests = Some(input_digests(
+        &model_path,
+        &model,
+        std::slice::from_ref(&data_path),
+    )?);
     let report = match &args.report {
         Some(dir) => {
             let title = format!("{} with {}", first.model, first.data);
             Some((
                 dir.as_path(),
-                render(&model, &result, &measured, None, &title)?,
+                render(&model, &result, "", &measured, None, &title)?,
             ))
         }
         None => None,

@@ -4,6 +4,7 @@ use crate::cli::ReportArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::run::demo_case::{demo_data, demo_model, demo_title, reference_of};
+use crate::run::digest::check_unchanged;
 use crate::run::experiments::campaign_data;
 use crate::run::inputs::{fixed, load, load_data};
 use crate::run::report::{read_result, render, render_campaign};
@@ -33,7 +34,7 @@ pub fn run(args: ReportArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let (model, measured, reference, title) = rebuild(&args, &result, base, &mut plan, ui)?;
     let outputs = plan.check()?;
-    let files = render(&model, &result, &measured, reference.as_deref(), &title)?;
+    let files = render(&model, &result, "", &measured, reference.as_deref(), &title)?;
     let mut batch = outputs.batch();
     batch.report("-o", &files)?;
     batch.commit()?;
@@ -66,6 +67,14 @@ fn campaign(
     ui: &Ui,
 ) -> Result<(), Failure> {
     let model = fixed(load(model_path, ui)?, &result.source.set)?;
+    let data: Vec<PathBuf> = model.experiments.iter().map(|x| x.data.clone()).collect();
+    check_unchanged(
+        &args.result,
+        result.source.digests.as_ref(),
+        model_path,
+        &model,
+        &data,
+    )?;
     plan.input(model_path);
     for f in model
         .files
@@ -105,6 +114,13 @@ fn rebuild(
                 .as_deref()
                 .ok_or_else(|| Failure::input_msg("RESULT.json names no model file"))?;
             let model = fixed(load(&resolve(base, model_path), ui)?, &result.source.set)?;
+            check_unchanged(
+                &args.result,
+                result.source.digests.as_ref(),
+                &resolve(base, model_path),
+                &model,
+                &[resolve(base, data)],
+            )?;
             plan.input(&resolve(base, model_path))
                 .input(&resolve(base, data));
             for f in &model.files {

@@ -6,10 +6,11 @@ use crate::cli::ValidateArgs;
 use crate::diagnostics::Failure;
 use crate::format::table;
 use crate::outputs::Plan;
+use crate::run::digest::changed_input;
 use crate::run::estimate::simulate_at_estimate;
 use crate::run::experiments::experiment_data;
 use crate::run::inputs::{fixed, load, load_data};
-use crate::run::report::{read_result, render};
+use crate::run::report::{read_result, render_fitted};
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::fit_percent;
@@ -46,13 +47,14 @@ pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     let result = read_result(&args.result)?;
     let model = fixed(load(&args.model, ui)?, &result.source.set)?;
     check_belongs(&model, &result, &args)?;
-    if args.report.is_some() && !result.experiments.is_empty() {
-        return Err(Failure::input_msg(format!(
-            "--report: {} is a campaign's result, whose report shows every experiment: \
-             write it with `rfeid report {} -o DIR`",
-            args.result.display(),
+    if let Some((path, what)) =
+        changed_input(result.source.digests.as_ref(), &args.model, &model, None)?
+    {
+        ui.note(format!(
+            "warning: {what} {} is not what {} was computed with: the estimate is checked with the file as it is now",
+            path.display(),
             args.result.display()
-        )));
+        ));
     }
     let mut plan = Plan::new();
     plan.input(&args.model).input(&args.result);
@@ -74,40 +76,22 @@ pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
             cases.len()
         )));
     }
-    let mut all = Vec::new();
-    for case in &cases {
-        let (fitted, _) = simulate_at_estimate(&result, &case.model, &case.experiment)?;
-        let fits = (0..case.model.sensors.len())
-            .map(|c| {
-                fit_percent(
-                    &case.measured.sensor(c)[case.first..],
-                    &fitted.sensor(c)[case.first..],
-                )
-            })
-            .collect();
-        let role = model
-            .experiments
-            .iter()
-            .find(|x| x.name == case.experiment)
-            .map(|x| match x.role {
-                Role::Fit => "fit".to_string(),
-                Role::Validation => "validation".to_string(),
-            });
-        all.push(Fits {
-            experiment: case.experiment.clone(),
-            role,
-            sensors: case.model.sensors.iter().map(|s| s.name.clone()).collect(),
-            fit_percent: fits,
-        });
-    }
+    let (all, simulated): (Vec<Fits>, Vec<Response>) = cases
+        .iter()
+        .map(|case| fits_of(&model, &result, case))
+        .collect::<Result<Vec<_>, _>>()?
+        .into_iter()
+        .unzip();
     if ui.json {
         ui.print_json(&all)?;
     } else {
         print!("{}", fits_table(&all));
     }
-    if let (Some(dir), [case]) = (&args.report, cases.as_slice()) {
+    if let (Some(dir), [case], [fitted]) = (&args.report, cases.as_slice(), simulated.as_slice()) {
         let title = format!("{} on {}", args.result.display(), source_name(&args, case));
-        let files = render(&case.model, &result, &case.measured, None, &title)?;
+        let sensors: Vec<String> = case.model.sensors.iter().map(|s| s.name.clone()).collect();
+        let seen = result.seen_by(&case.experiment, &sensors);
+        let files = render_fitted(&case.model, &seen, &case.measured, fitted, None, &title)?;
         let mut batch = outputs.batch();
         batch.report("--report", &files)?;
         batch.commit()?;
@@ -117,6 +101,38 @@ pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
         ));
     }
     Ok(())
+}
+
+/// The fits of one data set, and the model's response at the estimate.
+fn fits_of(
+    model: &Model,
+    result: &IdentificationResult,
+    case: &Case,
+) -> Result<(Fits, Response), Failure> {
+    let (fitted, _) = simulate_at_estimate(result, &case.model, &case.experiment)?;
+    let fits = (0..case.model.sensors.len())
+        .map(|c| {
+            fit_percent(
+                &case.measured.sensor(c)[case.first..],
+                &fitted.sensor(c)[case.first..],
+            )
+        })
+        .collect();
+    let role = model
+        .experiments
+        .iter()
+        .find(|x| x.name == case.experiment)
+        .map(|x| match x.role {
+            Role::Fit => "fit".to_string(),
+            Role::Validation => "validation".to_string(),
+        });
+    let fits = Fits {
+        experiment: case.experiment.clone(),
+        role,
+        sensors: case.model.sensors.iter().map(|s| s.name.clone()).collect(),
+        fit_percent: fits,
+    };
+    Ok((fits, fitted))
 }
 
 /// The data sets the arguments name.

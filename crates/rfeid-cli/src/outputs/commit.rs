@@ -156,6 +156,9 @@ impl<'a> Batch<'a> {
                 }
                 _ => commit_one(&s, &mut registry),
             };
+            if done.is_ok() {
+                registry.placed();
+            }
             if let Err(e) = done {
                 // Leave nothing half-done behind: this one's and the
                 // remaining temporaries go.

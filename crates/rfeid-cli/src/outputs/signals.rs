@@ -15,12 +15,19 @@ use std::sync::{Mutex, MutexGuard};
 #[derive(Debug, Default)]
 pub struct Registry {
     paths: Vec<PathBuf>,
+    /// Outputs put in place so far (an interruption says how many).
+    placed: usize,
 }
 
 impl Registry {
     /// Records a temporary that is about to be created.
     pub fn add(&mut self, path: PathBuf) {
         self.paths.push(path);
+    }
+
+    /// Counts an output put in place.
+    pub fn placed(&mut self) {
+        self.placed += 1;
     }
 
     /// Forgets a temporary (renamed into place or removed).
@@ -49,7 +56,10 @@ pub fn remove_path(p: &std::path::Path) {
     }
 }
 
-static REGISTRY: Mutex<Registry> = Mutex::new(Registry { paths: Vec::new() });
+static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
+    paths: Vec::new(),
+    placed: 0,
+});
 
 /// The registry, locked. Hold it while creating, renaming or removing
 /// temporaries.
@@ -87,6 +97,7 @@ pub fn install() {
             }
             let mut registry = lock();
             registry.remove_all();
+            eprintln!("{}", interrupted_message(sig, registry.placed));
             std::process::exit(128 + sig);
         });
     if spawned.is_err() {
@@ -96,6 +107,27 @@ pub fn install() {
             libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
         }
     }
+}
+
+/// What an interruption by `sig` says, with `placed` outputs already in
+/// place (an interruption during the final renames waits for them).
+#[cfg(unix)]
+fn interrupted_message(sig: libc::c_int, placed: usize) -> String {
+    let name = match sig {
+        libc::SIGINT => "SIGINT",
+        libc::SIGTERM => "SIGTERM",
+        libc::SIGHUP => "SIGHUP",
+        _ => "a signal",
+    };
+    let outputs = match placed {
+        0 => "no output was written".to_string(),
+        1 => "its output had been written".to_string(),
+        n => format!("its {n} outputs had been written"),
+    };
+    format!(
+        "rfeid: interrupted by {name} (exit status {}): {outputs}; temporaries removed",
+        128 + sig
+    )
 }
 
 /// No signal handling off Unix.

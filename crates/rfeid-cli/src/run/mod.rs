@@ -7,12 +7,14 @@
 //!   plan);
 //! - search set-up: [`limits`], [`search`], [`progress`];
 //! - computing beside the search: [`estimate`] (a model at the estimate);
+//! - inputs unchanged: [`digest`] (what RESULT.json records of its files);
 //! - failures: [`failures`] (library errors as exit statuses);
 //! - results: [`show`] and [`verdict_text`] (the tables and notes),
 //!   [`report`] (report files), [`closing`] (the closing sequence of
 //!   `identify`, `demo` and `merge`).
 pub mod closing;
 pub mod demo_case;
+pub mod digest;
 pub mod estimate;
 pub mod experiments;
 pub mod failures;

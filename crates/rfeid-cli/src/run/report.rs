@@ -76,24 +76,20 @@ pub fn render_campaign(
     report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
 }
 
-/// Simulates at the estimate and renders the report's files (name, text).
+/// Simulates at the estimate, as experiment `experiment` of a campaign
+/// sees it (`""` for a data file on its own), and renders the report's
+/// files (name, text).
 pub fn render(
     model: &Model,
     result: &IdentificationResult,
+    experiment: &str,
     measured: &Response,
     reference: Option<&[f64]>,
     title: &str,
 ) -> Result<ReportFiles, Failure> {
-    let mut params = model.nominal();
-    for p in &result.parameters {
-        let i = model.parameter_index(&p.name).ok_or_else(|| {
-            Failure::input_msg(format!(
-                "the result's parameter '{}' is not in the model",
-                p.name
-            ))
-        })?;
-        params[i] = p.estimate;
-    }
+    let params = result
+        .parameter_values(model, experiment)
+        .map_err(Failure::input_msg)?;
     // The steps the identification ended with, as recorded.
     let sim = match &result.simulation {
         Some(steps) => {
@@ -104,6 +100,19 @@ pub fn render(
     let mut fitted = sim.response_buffer();
     sim.run(&params, &mut Workspace::default(), &mut fitted)
         .map_err(|e| Failure::failed(format!("simulating at the estimate failed: {e}")))?;
+    render_fitted(model, result, measured, &fitted, reference, title)
+}
+
+/// Renders the report's files (name, text) of `result` with the model's
+/// response `fitted` at the estimate already simulated.
+pub fn render_fitted(
+    model: &Model,
+    result: &IdentificationResult,
+    measured: &Response,
+    fitted: &Response,
+    reference: Option<&[f64]>,
+    title: &str,
+) -> Result<ReportFiles, Failure> {
     let time: Vec<f64> = (0..fitted.n_samples)
         .map(|k| model.sampling.time(k))
         .collect();
@@ -113,7 +122,7 @@ pub fn render(
         result,
         time: &time,
         measured,
-        fitted: &fitted,
+        fitted,
         reference,
     };
     report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))

@@ -8,6 +8,7 @@
 //! check that the shards belong together, not a protection against
 //! tampering), the shard's number, the search settings, the model and data
 //! paths, and J (or the failure) at every finished point.
+use super::digest::{fnv1a, read_bytes};
 use super::limits::{MAX_PLAN, MAX_STARTS};
 use super::search::DEFAULT_WEIGHTS;
 use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StepArgs, WeightsArg};
@@ -131,18 +132,6 @@ pub struct ShardFile {
     pub points: Vec<PointRecord>,
 }
 
-/// FNV-1a 64 of `parts`, each preceded by its length.
-fn fnv1a(parts: &[&[u8]]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for part in parts {
-        for b in (part.len() as u64).to_le_bytes().iter().chain(part.iter()) {
-            h ^= *b as u64;
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    format!("{h:016x}")
-}
-
 /// The hash of a run: the model file, its signal tables, the data file and
 /// the search settings.
 pub fn run_hash(
@@ -151,14 +140,11 @@ pub fn run_hash(
     data: &Path,
     spec: &SearchSpec,
 ) -> Result<String, Failure> {
-    let read = |p: &Path| {
-        std::fs::read(p).map_err(|e| Failure::input_msg(format!("{}: {e}", p.display())))
-    };
-    let mut files = vec![read(model_path)?];
+    let mut files = vec![read_bytes(model_path)?];
     for f in &model.files {
-        files.push(read(f)?);
+        files.push(read_bytes(f)?);
     }
-    files.push(read(data)?);
+    files.push(read_bytes(data)?);
     files.push(
         serde_json::to_vec(spec)
             .map_err(|e| Failure::failed(format!("the settings as JSON: {e}")))?,

@@ -94,6 +94,26 @@ pub struct Source {
     /// (`identify --set`); a report applies them again.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub set: Vec<String>,
+    /// What the input files held when the result was computed, so that a
+    /// later `report` or `validate` can tell that one changed (absent for
+    /// the demo and in results written before they were recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub digests: Option<InputDigests>,
+}
+
+/// Digests of a run's input files: FNV-1a 64 of their bytes, in hex (a check
+/// that a file is unchanged, not a protection against tampering).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InputDigests {
+    /// The model file.
+    pub model: String,
+    /// The model's signal tables, in the model's order.
+    #[serde(default)]
+    pub tables: Vec<String>,
+    /// The data: the data file, or a campaign's experiments' files in the
+    /// model's order.
+    #[serde(default)]
+    pub data: Vec<String>,
 }
 
 /// One experiment of a campaign, as RESULT.json lists it.
@@ -259,6 +279,45 @@ impl IdentificationResult {
         sim.run(&x, &mut Workspace::default(), &mut out)
             .map_err(EstimateError::Simulation)?;
         Ok((out, sim.steps()))
+    }
+
+    /// The result as one experiment of its campaign shows it, for a report
+    /// of that experiment's data: the per-sensor entries (sensor names,
+    /// weights, noise models, the verdict's checks) narrowed to
+    /// `sensors[experiment]`, in the order of `sensors`. A validation
+    /// experiment was not fitted, so its sensors have no weights or noise
+    /// models: those lists come out empty (as for `experiment` `""`, data
+    /// outside the campaign). A result without experiments is returned as
+    /// it is.
+    pub fn seen_by(&self, experiment: &str, sensors: &[String]) -> IdentificationResult {
+        let mut view = self.clone();
+        if self.experiments.is_empty() {
+            return view;
+        }
+        let names: Vec<String> = sensors
+            .iter()
+            .map(|s| match experiment {
+                "" => s.clone(),
+                e => format!("{s}[{e}]"),
+            })
+            .collect();
+        let weights: Option<Vec<f64>> = names
+            .iter()
+            .map(|n| {
+                let i = self.sensors.iter().position(|s| s == n)?;
+                self.weights.get(i).copied()
+            })
+            .collect();
+        view.weights = weights.unwrap_or_default();
+        view.noise = names
+            .iter()
+            .filter_map(|n| self.noise.iter().find(|x| &x.sensor == n).cloned())
+            .collect();
+        if let Some(v) = &mut view.verdict {
+            v.sensors.retain(|s| names.contains(&s.sensor));
+        }
+        view.sensors = names;
+        view
     }
 
     /// `true` if a verdict was drawn and it is not trustworthy.

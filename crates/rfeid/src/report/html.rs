@@ -263,6 +263,19 @@ fn summary_rows(input: &ReportInput) -> Vec<(&'static str, String)> {
 
 /// The number of observations as sensors × samples, of `samples` recorded.
 fn observations_text(r: &IdentificationResult, samples: usize) -> String {
+    if !r.experiments.is_empty() {
+        let fitted: Vec<&str> = r
+            .experiments
+            .iter()
+            .filter(|e| e.role == crate::model::Role::Fit)
+            .map(|e| e.name.as_str())
+            .collect();
+        return format!(
+            "{} over the fitted experiments ({})",
+            r.observations,
+            fitted.join(", ")
+        );
+    }
     format!(
         "{} = {} sensors × {} samples (of {} recorded)",
         r.observations,

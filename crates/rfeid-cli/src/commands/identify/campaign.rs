@@ -4,6 +4,7 @@ use crate::cli::IdentifyArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
+use crate::run::digest::input_digests;
 use crate::run::estimate::simulate_at_estimate;
 use crate::run::experiments::{campaign_data, check_exists};
 use crate::run::failures::{identify_failure, simulation_failure};
@@ -18,6 +19,7 @@ use rfeid::identification::result::{ExperimentSummary, IdentificationResult};
 use rfeid::measurement::{constant_sensors, fit_percent};
 use rfeid::model::{Experiment, Model, Role};
 use rfeid::simulation::{Response, Simulator};
+use std::path::PathBuf;
 
 /// Runs `identify` on the model's experiments.
 pub fn run(args: &IdentifyArgs, model: &Model, ui: &Ui) -> Result<(), Failure> {
@@ -88,6 +90,8 @@ fn fit(
     progress.bar.finish_and_clear();
     result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
+    let data: Vec<PathBuf> = model.experiments.iter().map(|x| x.data.clone()).collect();
+    result.source.digests = Some(input_digests(&args.model, model, &data)?);
     let fitted = std::mem::take(&mut result.experiments);
     let mut fitted = fitted.into_iter();
     for (e, x) in model.experiments.iter().enumerate() {

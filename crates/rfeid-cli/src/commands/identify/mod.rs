@@ -9,6 +9,7 @@ use crate::cli::{IdentifyArgs, StartArg};
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
+use crate::run::digest::input_digests;
 use crate::run::inputs::{fixed, load, load_data, stepped};
 use crate::run::limits::check_limits;
 use crate::run::report::render;
@@ -101,12 +102,13 @@ fn single(
     result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(data.display().to_string());
+    result.source.digests = Some(input_digests(&args.model, model, &[data.to_path_buf()])?);
     let report = match &args.report {
         Some(dir) => {
             let title = format!("{} with {}", args.model.display(), data.display());
             Some((
                 dir.as_path(),
-                render(model, &result, &measured, None, &title)?,
+                render(model, &result, "", &measured, None, &title)?,
             ))
         }
         None => None,
