@@ -55,6 +55,11 @@ pub enum Command {
         after_help = "Example:\n  rfeid identify model.toml --data test1.csv -o result.json\n  rfeid validate model.toml result.json --data test2.csv --report check/\n  rfeid validate examples/knee-column-campaign/model.toml result.json   # every experiment\n  rfeid validate examples/knee-column-campaign/model.toml result.json --experiment low"
     )]
     Validate(ValidateArgs),
+    /// Experiment design: predicted standard errors of a planned test, and the D-optimal choice of candidate sensors.
+    #[command(
+        after_help = "Example:\n  rfeid design examples/knee-column-design/model.toml\n  rfeid design examples/knee-column-design/model.toml --choose 3 --report design/\n  rfeid design examples/knee-column-design/model.toml --choose 3 --over-box 16 -o design.json"
+    )]
+    Design(DesignArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
@@ -127,6 +132,31 @@ pub struct ValidateArgs {
     /// Also write the HTML report of the result on these data (one data set only).
     #[arg(long, value_name = "DIR")]
     pub report: Option<PathBuf>,
+}
+
+/// `rfeid design`.
+#[derive(Debug, Args)]
+pub struct DesignArgs {
+    /// The model file (TOML); every placed sensor and candidate needs `noise` (SPEC §6).
+    pub model: PathBuf,
+    /// Add the D-optimal K of the candidate sensors (`candidate = true`) to the placed ones.
+    #[arg(long, value_name = "K")]
+    pub choose: Option<usize>,
+    /// Choose for the average over N LP_τ points of the parameter box (the values are not known before the test), and report how much the choice changes.
+    #[arg(long = "over-box", value_name = "N")]
+    pub over_box: Option<usize>,
+    /// Design at other values than the model's (repeatable), as for `simulate`.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Write the design as JSON to this file (`-` for standard output).
+    #[arg(short, long, value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Also write an HTML report: the candidate points on the bodies, and the predicted relative standard errors.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// `rfeid modal`.

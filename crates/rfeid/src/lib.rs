@@ -17,6 +17,7 @@
 //! | [`identification`] | the output-error criterion (eq. 10–16), LP_τ plans (eq. 18–19), local searches, Cramér–Rao bounds (eq. 26–29), the verdict, and the [`identification::pipeline`] that runs them as stages |
 //! | [`io`] | files: model files (TOML with units), data files (CSV, MAT, UFF 58), atomic writes |
 //! | [`report`] | the HTML report and its SVG figures |
+//! | [`design`] | experiment design: predicted standard errors of a planned test, D-optimal sensor choice (SPEC §6) |
 //!
 //! # The data's path
 //!
@@ -41,6 +42,7 @@
 // `!(x > 0.0)` is used on purpose: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+pub mod design;
 pub mod identification;
 pub mod io;
 pub mod measurement;

@@ -33,7 +33,8 @@ fn json_summary(model: &Model) -> serde_json::Value {
         "bodies": model.bodies.iter().map(|b| &b.name).collect::<Vec<_>>(),
         "degrees_of_freedom": model.n_dof(),
         "elements": model.elements.iter().map(|e| &e.name).collect::<Vec<_>>(),
-        "sensors": model.sensors.iter().map(|s| serde_json::json!({"name": s.name, "unit": s.kind.unit()})).collect::<Vec<_>>(),
+        "sensors": model.sensors.iter().map(|s| serde_json::json!({"name": s.name, "unit": s.kind.unit(), "noise": s.noise})).collect::<Vec<_>>(),
+        "candidates": model.candidates.iter().map(|s| serde_json::json!({"name": s.name, "unit": s.kind.unit(), "noise": s.noise})).collect::<Vec<_>>(),
         "samples": s.n_samples(),
         "sample_rate": s.sample_rate,
         "parameters": model.parameters.iter().map(|p| serde_json::json!({
@@ -78,7 +79,14 @@ pub fn summary(model: &Model) -> String {
     out.push_str("\nElements\n");
     out.push_str(&elements_table(model));
     out.push_str("\nSensors\n");
-    out.push_str(&sensors_table(model));
+    out.push_str(&sensors_table(model, &model.sensors));
+    if !model.candidates.is_empty() {
+        out.push_str(&format!(
+            "\nCandidate sensors ({}, for `rfeid design --choose K`; not measured)\n",
+            model.candidates.len()
+        ));
+        out.push_str(&sensors_table(model, &model.candidates));
+    }
     let identified = model.identified();
     out.push_str(&format!(
         "\nParameters ({} identified, {} fixed)\n",
@@ -155,10 +163,10 @@ fn elements_table(model: &Model) -> String {
     table(&["element", "joins", "components"], &rows)
 }
 
-/// The sensors: what they read, where and along what.
-fn sensors_table(model: &Model) -> String {
-    let rows: Vec<Vec<String>> = model
-        .sensors
+/// Sensors of the model: what they read, where, along what, and the
+/// noise `rfeid design` assumes.
+fn sensors_table(model: &Model, sensors: &[rfeid::model::Sensor]) -> String {
+    let rows: Vec<Vec<String>> = sensors
         .iter()
         .map(|s| {
             vec![
@@ -172,10 +180,15 @@ fn sensors_table(model: &Model) -> String {
                     sig(s.direction.y, 4),
                     sig(s.direction.z, 4)
                 ),
+                s.noise
+                    .map_or("-".into(), |n| format!("{} {}", sig(n, 3), s.kind.unit())),
             ]
         })
         .collect();
-    table(&["sensor", "reads", "body", "at m", "direction"], &rows)
+    table(
+        &["sensor", "reads", "body", "at m", "direction", "noise σ"],
+        &rows,
+    )
 }
 
 /// The parameters: unit, nominal value, box and scale.

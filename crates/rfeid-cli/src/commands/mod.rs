@@ -2,6 +2,7 @@
 //! ([`crate::run`]); no command imports another.
 pub mod check;
 pub mod demo;
+pub mod design;
 pub mod identify;
 pub mod merge;
 pub mod modal;

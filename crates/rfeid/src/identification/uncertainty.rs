@@ -341,6 +341,44 @@ pub fn cramer_rao_blocked(
     from_scaled_factor(rs, &norms, n_obs, &factors, ssr, Some(box_widths), settings)
 }
 
+/// [`cramer_rao_mapped`] from the Fisher matrix `F = H₁ᵀH₁` itself, its
+/// rows already divided by each observation's noise standard deviation, so
+/// that s² = 1 (eq. 26 with the noise known: the prediction of an
+/// experiment design). `n_obs` is the number of observations it sums;
+/// `dx_du` the chain-rule factors of its coordinate, `box_widths` serve the
+/// standard-error-versus-box warning. F is factored by its symmetric
+/// eigendecomposition (`F = RᵀR` with `R = Λ^½ Vᵀ`), so a singular F is
+/// reported as [`UncertaintyError::Singular`] with the parameters involved.
+pub fn cramer_rao_fisher(
+    fisher: &DMatrix<f64>,
+    n_obs: usize,
+    dx_du: &[f64],
+    box_widths: &[f64],
+    settings: &UncertaintySettings,
+) -> Result<CramerRao, UncertaintyError> {
+    let r = fisher.ncols();
+    check_widths(r, Some(box_widths))?;
+    check_widths(r, Some(dx_du))?;
+    let sym = (fisher + fisher.transpose()) * 0.5;
+    let eig = sym.symmetric_eigen();
+    let root = DMatrix::from_fn(r, r, |k, j| {
+        eig.eigenvalues[k].max(0.0).sqrt() * eig.eigenvectors[(j, k)]
+    });
+    check_inputs(&root, n_obs.max(r + 2), 0.0)?;
+    let norms: Vec<f64> = (0..r).map(|j| fisher[(j, j)].max(0.0).sqrt()).collect();
+    check_no_zero_column(&norms)?;
+    let mut rs = root;
+    for (j, mut col) in rs.column_iter_mut().enumerate() {
+        col /= norms[j];
+    }
+    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
+    // s² = ssr / (n − r − 1) = 1: the noise is in F already.
+    let mut bounds =
+        from_scaled_factor(rs, &norms, r + 2, &factors, 1.0, Some(box_widths), settings)?;
+    bounds.n_observations = n_obs;
+    Ok(bounds)
+}
+
 /// What the bounds need of a Jacobian `m` (or its triangular factor) with
 /// `n_obs` rows in all: parameters, more observations than r + 1 (eq. 29),
 /// a finite SSR ≥ 0 and finite entries.

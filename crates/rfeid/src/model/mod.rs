@@ -312,6 +312,9 @@ pub struct Sensor {
     pub gain: Value,
     /// Calibration offset, in the reading's unit.
     pub offset: Value,
+    /// Standard deviation of its measurement noise, in the reading's unit
+    /// (SPEC §6, for `rfeid design`; `identify` estimates the noise).
+    pub noise: Option<f64>,
 }
 
 impl Sensor {
@@ -381,6 +384,9 @@ pub struct Model {
     pub excitations: Vec<Excitation>,
     /// The sensors.
     pub sensors: Vec<Sensor>,
+    /// Places a sensor could go (`candidate = true`, SPEC §6): only
+    /// `rfeid design` reads them; they are not measured.
+    pub candidates: Vec<Sensor>,
     /// The sampling.
     pub sampling: Sampling,
     /// Gravity acceleration, global, m/s²; the run then starts from static equilibrium.

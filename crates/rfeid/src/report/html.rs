@@ -8,7 +8,7 @@ use crate::identification::search::Method;
 use crate::identification::verdict::Outcome;
 use std::fmt::Write;
 
-const CSS: &str = "\
+pub(crate) const CSS: &str = "\
 body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;color:#222;max-width:900px;margin:0 auto;padding:16px 20px;line-height:1.4;font-size:14px}\
 h1{font-size:22px;margin:0 0 6px}h2{font-size:18px;border-bottom:2px solid #0072B2;padding-bottom:2px;margin:28px 0 10px}\
 h3{font-size:15px;margin:16px 0 6px}\

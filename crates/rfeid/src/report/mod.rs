@@ -28,6 +28,7 @@
 mod axis;
 mod correlation;
 mod decimate;
+pub mod design;
 mod fmt;
 mod history;
 mod html;

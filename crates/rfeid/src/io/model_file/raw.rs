@@ -181,6 +181,8 @@ pub struct RawSensor {
     pub data: Option<Spanned<crate::model::DataSource>>,
     pub gain: Option<SNum>,
     pub offset: Option<SNum>,
+    pub noise: Option<SNum>,
+    pub candidate: Option<Spanned<bool>>,
 }
 
 /// One test of a campaign (SPEC §5).

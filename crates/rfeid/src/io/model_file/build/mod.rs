@@ -36,7 +36,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let bodies = bodies(&mut ctx, &raw)?;
     let elements = elements(&mut ctx, &raw, &bodies)?;
     let excitations = excitations(&mut ctx, &raw, &bodies)?;
-    let sensors = sensors(&mut ctx, &raw, &bodies)?;
+    let (sensors, candidates) = sensors(&mut ctx, &raw, &bodies)?;
     let sampling = sampling(&ctx, &raw)?;
     let gravity = gravity(&ctx, &raw)?;
     let parameters = finish_parameters(&ctx)?;
@@ -49,6 +49,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
         parameters,
         excitations,
         sensors,
+        candidates,
         sampling,
         gravity,
         files: ctx.files.take(),

@@ -7,22 +7,34 @@ use crate::units::Dimension;
 use std::collections::HashMap;
 use toml::Spanned;
 
-/// Reads every `[[sensor]]`; a model needs at least one.
-pub(super) fn sensors(ctx: &mut Ctx, raw: &RawFile, bodies: &Bodies) -> Result<Vec<Sensor>> {
-    let mut sensors = Vec::new();
+/// Reads every `[[sensor]]`: the placed ones (a model needs at least one)
+/// and the candidates (`candidate = true`, SPEC §6). Names are unique over
+/// both.
+pub(super) fn sensors(
+    ctx: &mut Ctx,
+    raw: &RawFile,
+    bodies: &Bodies,
+) -> Result<(Vec<Sensor>, Vec<Sensor>)> {
+    let (mut sensors, mut candidates) = (Vec::new(), Vec::new());
     let mut names = HashMap::new();
     for (i, s) in raw.sensor.iter().enumerate() {
-        sensors.push(sensor(ctx, s, i, &mut names, bodies)?);
+        let read = sensor(ctx, s, i, &mut names, bodies)?;
+        if s.get_ref().candidate.as_ref().is_some_and(|c| *c.get_ref()) {
+            candidates.push(read);
+        } else {
+            sensors.push(read);
+        }
     }
     if sensors.is_empty() {
-        return Err(ctx.err(
-            None,
-            "",
-            "sensor",
-            "the model has no [[sensor]]: nothing to simulate or identify",
-        ));
+        let what = if candidates.is_empty() {
+            "the model has no [[sensor]]: nothing to simulate or identify"
+        } else {
+            "every [[sensor]] is a candidate: place at least one (a sensor without \
+             `candidate = true`), as the test has one at least"
+        };
+        return Err(ctx.err(None, "", "sensor", what));
     }
-    Ok(sensors)
+    Ok((sensors, candidates))
 }
 
 /// One `[[sensor]]`: name, body, point, direction, quantity, data, gain, offset.
@@ -67,6 +79,21 @@ fn sensor(
         Some(o) => ctx.value(o, reading_dimension(kind), &entry, "offset")?,
         None => Value::Fixed(0.0),
     };
+    let noise = match &rs.noise {
+        Some(n) => {
+            let v = ctx.number(n, reading_dimension(kind), &entry, "noise")?;
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ctx.err(
+                    Some(n.span()),
+                    &entry,
+                    "noise",
+                    "the noise's standard deviation must be positive and finite",
+                ));
+            }
+            Some(v)
+        }
+        None => None,
+    };
     Ok(Sensor {
         name,
         body,
@@ -76,6 +103,7 @@ fn sensor(
         data,
         gain,
         offset,
+        noise,
     })
 }
 

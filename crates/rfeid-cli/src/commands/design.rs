@@ -1,0 +1,134 @@
+//! `rfeid design`: what a test will give before it is run (SPEC §6): the
+//! predicted standard errors of the placed sensors and, with `--choose K`,
+//! the D-optimal K of the candidate sensors added to them.
+use crate::cli::DesignArgs;
+use crate::diagnostics::Failure;
+use crate::outputs::Plan;
+use crate::run::design_text::{design_json, print_design};
+use crate::run::failures::simulation_failure;
+use crate::run::inputs::{apply_sets, load};
+use crate::run::limits::start_threads;
+use crate::run::show::json_conflict;
+use crate::ui::Ui;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rfeid::design::{design, DesignError, DesignSettings};
+
+/// Most points of `--over-box`.
+const MAX_OVER_BOX: usize = 4096;
+
+/// Runs the command.
+pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
+    let mut model = load(&args.model, ui)?;
+    let mut plan = Plan::new();
+    plan.input(&args.model);
+    for f in &model.files {
+        plan.input(f);
+    }
+    if let Some(path) = &args.output {
+        plan.file("-o", path);
+    }
+    if let Some(dir) = &args.report {
+        plan.report("--report", dir);
+    }
+    let outputs = plan.check()?;
+    json_conflict(ui, &outputs)?;
+    check_args(&args, &model)?;
+    let mut values = model.nominal();
+    apply_sets(&model, &args.set, &mut values)?;
+    for (p, v) in model.parameters.iter_mut().zip(values) {
+        p.value = v;
+    }
+    start_threads(args.threads)?;
+    let settings = DesignSettings {
+        choose: args.choose,
+        over_box: args.over_box,
+        ..Default::default()
+    };
+    let bar = progress(ui, 1 + args.over_box.unwrap_or(0));
+    let found = design(&model, &settings, &|| bar.inc(1)).map_err(|e| design_failure(&args, e))?;
+    bar.finish_and_clear();
+    let json = design_json(&model, &found);
+    let mut batch = outputs.batch();
+    if let Some(path) = &args.output {
+        let mut text = serde_json::to_vec_pretty(&json)
+            .map_err(|e| Failure::failed(format!("the design as JSON: {e}")))?;
+        text.push(b'\n');
+        batch.file("-o", text)?;
+        if !outputs.uses_stdout() {
+            ui.note(format!("design written to {}", path.display()));
+        }
+    }
+    if args.report.is_some() {
+        let files = rfeid::report::design::design_report_files(
+            &model,
+            &found,
+            &args.model.display().to_string(),
+        );
+        batch.report("--report", &files)?;
+    }
+    batch.commit()?;
+    if let Some(dir) = &args.report {
+        ui.note(format!(
+            "report written to {}",
+            dir.join("report.html").display()
+        ));
+    }
+    if outputs.uses_stdout() {
+        return Ok(());
+    }
+    if ui.json {
+        return ui.print_json(&json);
+    }
+    print_design(&model, &found);
+    Ok(())
+}
+
+/// `--choose` and `--over-box` within their limits.
+fn check_args(args: &DesignArgs, model: &rfeid::model::Model) -> Result<(), Failure> {
+    if let Some(k) = args.choose {
+        if k == 0 {
+            return Err(Failure::input_msg("--choose 0: choose at least one sensor"));
+        }
+        if model.candidates.is_empty() {
+            return Err(Failure::input_msg(format!(
+                "--choose {k}: {} has no candidate sensors: mark the places a sensor could go with `candidate = true` in their [[sensor]] entries",
+                args.model.display()
+            )));
+        }
+    }
+    match (args.over_box, args.choose) {
+        (Some(_), None) => Err(Failure::input_msg(
+            "--over-box without --choose: the box design chooses sensors; give --choose K",
+        )),
+        (Some(n), _) if !(1..=MAX_OVER_BOX).contains(&n) => Err(Failure::input_msg(format!(
+            "--over-box {n}: must be 1 to {MAX_OVER_BOX} points"
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// A design's failure: bad input (a sensor without noise, K beyond the
+/// candidates) names the model file; a failed simulation is a failure.
+fn design_failure(args: &DesignArgs, e: DesignError) -> Failure {
+    match e {
+        DesignError::Simulation(s) => simulation_failure("simulating at the parameters' values", s),
+        DesignError::EveryPointFailed { .. } => Failure::failed(e.to_string()),
+        other => Failure::input_msg(format!("{}: {other}", args.model.display())),
+    }
+}
+
+/// The bar over the simulations (hidden with `--quiet`).
+fn progress(ui: &Ui, total: usize) -> ProgressBar {
+    let target = if ui.quiet {
+        ProgressDrawTarget::hidden()
+    } else {
+        ProgressDrawTarget::stderr()
+    };
+    let bar = ProgressBar::with_draw_target(Some(total as u64), target);
+    bar.set_style(
+        ProgressStyle::with_template("design [{bar:40}] {pos}/{len} simulations, {elapsed}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar
+}

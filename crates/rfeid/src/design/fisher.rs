@@ -1,0 +1,222 @@
+//! The Fisher information of each sensor (SPEC §6): one simulation with
+//! exact sensitivities per experiment gives it for every placed and
+//! candidate sensor at once, since a sensor's readings depend on the
+//! parameters only through the motion that every sensor shares.
+//!
+//! With each sensor's noise σ_c known, the rows of the Jacobian H₁ of
+//! eq. 27–28 divided by σ_c give `F = H₁ᵀH₁` such that eq. 26 with s² = 1 is
+//! the Cramér–Rao bound. F is a sum over sensors (and over a campaign's
+//! fitted experiments), so each sensor's share `F_c = Σ_k h_ckᵀh_ck / σ_c²`
+//! is computed once and any set of sensors is a sum of shares.
+use super::DesignError;
+use crate::identification::output_error::{ExperimentData, OutputError};
+use crate::identification::problem::LeastSquares;
+use crate::model::{Model, Sensor};
+use crate::simulation::Simulator;
+use nalgebra::DMatrix;
+
+/// One fitted experiment's information: each placed sensor's and each
+/// candidate's share, in relative parameters.
+#[derive(Debug, Clone)]
+pub struct ExperimentFisher {
+    /// The experiment's name (`""` for a model without experiments).
+    pub name: String,
+    /// The placed sensors' shares summed.
+    pub placed: DMatrix<f64>,
+    /// Each candidate's share, in the model's candidate order.
+    pub candidates: Vec<DMatrix<f64>>,
+    /// Samples used per sensor.
+    pub samples: usize,
+    /// Placed sensors measured in it.
+    pub placed_sensors: usize,
+}
+
+/// The pieces a design is summed from, at one parameter point.
+#[derive(Debug, Clone)]
+pub struct FisherParts {
+    /// The decision variables' names (`name[experiment]` for a parameter
+    /// identified per experiment), as `identify` names them.
+    pub columns: Vec<String>,
+    /// Their values x_j at this point, SI.
+    pub values: Vec<f64>,
+    /// The relative coordinate's scale s_j: the Fisher matrices are in
+    /// `x_j / s_j`, with s_j = x_j (or the box width where x_j = 0).
+    pub scale: Vec<f64>,
+    /// Their boxes' widths `x_max − x_min`.
+    pub widths: Vec<f64>,
+    /// Each fitted experiment's shares.
+    pub experiments: Vec<ExperimentFisher>,
+}
+
+impl FisherParts {
+    /// The placed sensors' information, all experiments.
+    pub fn placed(&self) -> DMatrix<f64> {
+        let r = self.columns.len();
+        self.experiments
+            .iter()
+            .fold(DMatrix::zeros(r, r), |f, e| f + &e.placed)
+    }
+
+    /// Candidate i's information, all experiments.
+    pub fn candidate(&self, i: usize) -> DMatrix<f64> {
+        let r = self.columns.len();
+        self.experiments
+            .iter()
+            .fold(DMatrix::zeros(r, r), |f, e| f + &e.candidates[i])
+    }
+
+    /// Every candidate's information, all experiments.
+    pub fn candidates(&self) -> Vec<DMatrix<f64>> {
+        let n = self.experiments.first().map_or(0, |e| e.candidates.len());
+        (0..n).map(|i| self.candidate(i)).collect()
+    }
+
+    /// The observations of the placed sensors and of `extra` added
+    /// candidates: samples × sensors summed over the experiments.
+    pub fn observations(&self, extra: usize) -> usize {
+        self.experiments
+            .iter()
+            .map(|e| e.samples * (e.placed_sensors + extra))
+            .sum()
+    }
+}
+
+/// The noise σ of `s`, or the error naming it.
+fn noise_of(s: &Sensor, candidate: bool) -> Result<f64, DesignError> {
+    s.noise.ok_or_else(|| DesignError::NoNoise {
+        sensor: s.name.clone(),
+        candidate,
+    })
+}
+
+/// The model as each fitted experiment sees it (the model itself without
+/// experiments), with the candidates appended to its sensors and the
+/// identified parameters at `x` (all of the model's values, SI).
+fn experiment_models(model: &Model, x: &[f64]) -> Vec<(String, Model, usize)> {
+    let fitted = model.fitted_experiments();
+    let seen: Vec<(String, Model, f64)> = if model.experiments.is_empty() {
+        vec![(String::new(), model.clone(), 0.0)]
+    } else {
+        fitted
+            .iter()
+            .map(|&e| {
+                let x_e = &model.experiments[e];
+                (x_e.name.clone(), model.for_experiment(e), x_e.from)
+            })
+            .collect()
+    };
+    seen.into_iter()
+        .map(|(name, mut m, from)| {
+            for i in model.identified() {
+                m.parameters[i].value = x[i];
+            }
+            let first = m.sampling.first_sample(from);
+            m.sensors.extend(model.candidates.iter().cloned());
+            (name, m, first)
+        })
+        .collect()
+}
+
+/// Every sensor's share of the Fisher information at the model's values
+/// `x` (all parameters, SI), each fitted experiment simulated once with
+/// sensitivities (steps chosen there for the model's tolerance). Every
+/// placed sensor and candidate needs its `noise`.
+pub fn fisher_parts(model: &Model, x: &[f64]) -> Result<FisherParts, DesignError> {
+    let mut weights = Vec::new();
+    let models = experiment_models(model, x);
+    if models.is_empty() {
+        return Err(DesignError::NoFittedExperiment);
+    }
+    for (_, m, _) in &models {
+        let n_placed = m.sensors.len() - model.candidates.len();
+        for (c, s) in m.sensors.iter().enumerate() {
+            weights.push(noise_of(s, c >= n_placed)?.powi(-2));
+        }
+    }
+    let parts = models
+        .iter()
+        .map(|(name, m, first)| {
+            let sim = Simulator::choose(m, &m.nominal()).map_err(DesignError::Simulation)?;
+            let measured = sim.response_buffer();
+            if *first + 2 > measured.n_samples {
+                return Err(DesignError::TooShort {
+                    experiment: name.clone(),
+                });
+            }
+            Ok(ExperimentData {
+                name: name.clone(),
+                sim,
+                measured,
+                first: *first,
+                weight: 1.0,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut problem = OutputError::campaign(parts);
+    problem.set_weights(&weights);
+    let columns: Vec<String> = problem.columns().iter().map(|c| c.name.clone()).collect();
+    if columns.is_empty() {
+        return Err(DesignError::NoParameters);
+    }
+    let values: Vec<f64> = problem.columns().iter().map(|c| x[c.parameter]).collect();
+    let u = problem.to_normalised(&values);
+    let (n, r) = (problem.n_residuals(), columns.len());
+    let mut jac = DMatrix::zeros(n, r);
+    let mut res = vec![0.0; n];
+    problem
+        .residuals_jacobian(&mut problem.workspace(), &u, &mut res, &mut jac)
+        .map_err(DesignError::Simulation)?;
+    let widths = problem.widths().to_vec();
+    let scale: Vec<f64> = values
+        .iter()
+        .zip(&widths)
+        .map(|(&v, &w)| if v != 0.0 { v.abs() } else { w })
+        .collect();
+    // ∂g/∂(x_j/s_j) = s_j ∂g/∂x_j = s_j (∂g/∂u_j) / (dx_j/du_j).
+    for (j, d) in problem.dx_du(&u).iter().enumerate() {
+        let f = scale[j] / d;
+        jac.column_mut(j).iter_mut().for_each(|v| *v *= f);
+    }
+    let experiments = shares(&problem, &jac, model.candidates.len());
+    Ok(FisherParts {
+        columns,
+        values,
+        scale,
+        widths,
+        experiments,
+    })
+}
+
+/// Each experiment's sensor shares `BᵀB` of the Jacobian's row blocks
+/// (experiment by experiment, sensor by sensor, as the criterion stacks
+/// them), the last `n_candidates` sensors of each being the candidates.
+fn shares(problem: &OutputError, jac: &DMatrix<f64>, n_candidates: usize) -> Vec<ExperimentFisher> {
+    let r = jac.ncols();
+    let mut row = 0;
+    (0..problem.n_experiments())
+        .map(|p| {
+            let measured = problem.experiment_measured(p);
+            let used = measured.n_samples - problem.experiment_first(p);
+            let n_placed = measured.n_sensors - n_candidates;
+            let mut placed = DMatrix::zeros(r, r);
+            let mut candidates = Vec::with_capacity(n_candidates);
+            for c in 0..measured.n_sensors {
+                let block = jac.rows(row, used);
+                let share = block.transpose() * block;
+                row += used;
+                if c < n_placed {
+                    placed += share;
+                } else {
+                    candidates.push(share);
+                }
+            }
+            ExperimentFisher {
+                name: problem.experiment_name(p).to_string(),
+                placed,
+                candidates,
+                samples: used,
+                placed_sensors: n_placed,
+            }
+        })
+        .collect()
+}

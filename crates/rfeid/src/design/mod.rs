@@ -1,0 +1,268 @@
+//! Experiment design (SPEC §6): what a test will give before it is run.
+//!
+//! At the identified parameters' values, each sensor's share of the Fisher
+//! information comes from one simulation with exact sensitivities per
+//! experiment ([`fisher`]); the Cramér–Rao bound of eq. 26–29 with each
+//! sensor's `noise` as its σ (s² = 1) predicts the standard errors,
+//! correlations, condition number and identifiability warnings that
+//! `identify` would report ([`predict`]). `--choose K` adds the D-optimal K
+//! candidates ([`choose`]), with an upper bound on how far from the optimum
+//! the choice can be ([`bound`]); a campaign's experiments are ranked by
+//! the information each adds; `--over-box N` chooses for the average over N
+//! LP_τ points of the parameter box ([`over_box`]).
+pub mod bound;
+pub mod choose;
+pub mod fisher;
+pub mod over_box;
+pub mod predict;
+
+use crate::identification::uncertainty::UncertaintySettings;
+use crate::model::Model;
+use crate::simulation::SimulationError;
+use choose::{log_det, Search};
+use fisher::{fisher_parts, FisherParts};
+use nalgebra::DMatrix;
+use predict::{predict, Prediction};
+
+/// Why a design could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DesignError {
+    /// A sensor lacks the standard deviation of its noise.
+    #[error("sensor \"{sensor}\": `noise` is missing: a design needs every {} sensor's noise standard deviation (e.g. noise = \"0.02 m/s^2\")", if *candidate { "candidate" } else { "placed" })]
+    NoNoise {
+        /// The sensor.
+        sensor: String,
+        /// Whether it is a candidate.
+        candidate: bool,
+    },
+    /// The model identifies no parameter.
+    #[error(
+        "the model identifies no parameter (none has min and max): there is nothing to design for"
+    )]
+    NoParameters,
+    /// A campaign without a fitted experiment.
+    #[error("every experiment is for validation: a design needs a fitted one")]
+    NoFittedExperiment,
+    /// An experiment leaves fewer than two samples after its `from`.
+    #[error("experiment \"{experiment}\": fewer than two samples after `from`")]
+    TooShort {
+        /// The experiment.
+        experiment: String,
+    },
+    /// More sensors asked for than there are candidates.
+    #[error("--choose {k}: the model has {candidates} candidate sensor(s) (`candidate = true`)")]
+    TooManyChosen {
+        /// K.
+        k: usize,
+        /// Candidates in the model.
+        candidates: usize,
+    },
+    /// The simulation at the parameters' values failed.
+    #[error("simulating at the parameters' values: {0}")]
+    Simulation(SimulationError),
+    /// Every point of a box design failed.
+    #[error("every one of the {points} points of the box failed to simulate (first: {first})")]
+    EveryPointFailed {
+        /// Points tried.
+        points: usize,
+        /// The first failure.
+        first: String,
+    },
+    /// The LP_τ plan over the box could not be built.
+    #[error("the plan over the box: {0}")]
+    Plan(String),
+}
+
+/// What a design is asked for.
+#[derive(Debug, Clone, Default)]
+pub struct DesignSettings {
+    /// `--choose K`: candidates to add.
+    pub choose: Option<usize>,
+    /// `--over-box N`: choose for the average over N LP_τ points.
+    pub over_box: Option<usize>,
+    /// Greedy plus exchange even where exhaustive search is cheap.
+    pub force_greedy: bool,
+    /// The identifiability thresholds, as `identify`'s.
+    pub uncertainty: UncertaintySettings,
+}
+
+/// The chosen set and its certificate.
+#[derive(Debug, Clone)]
+pub struct ChosenSet {
+    /// Candidate indices (model order), ascending.
+    pub chosen: Vec<usize>,
+    /// Their names.
+    pub names: Vec<String>,
+    /// How they were found.
+    pub search: Search,
+    /// What the placed sensors with these give.
+    pub prediction: Prediction,
+    /// Upper bound on log det F of any K-set at the values (the convex
+    /// relaxation; with `--over-box` too, where the choice maximises the
+    /// average over the box instead).
+    pub upper_bound: f64,
+    /// The D-efficiency the choice is guaranteed: `exp((log det − bound)/r)`.
+    pub efficiency_at_least: f64,
+}
+
+/// One fitted experiment's worth in a campaign.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ExperimentGain {
+    /// The experiment.
+    pub name: String,
+    /// `log det F − log det F_without`: the information it adds.
+    pub log_det_gain: f64,
+    /// The D-efficiency of the campaign without it, `exp(−gain/r)`.
+    pub efficiency_without: f64,
+}
+
+/// A design's findings.
+#[derive(Debug, Clone)]
+pub struct Design {
+    /// The pieces at the parameters' values.
+    pub parts: FisherParts,
+    /// The placed sensors' prediction.
+    pub placed: Prediction,
+    /// With `--choose`: the chosen set.
+    pub chosen: Option<ChosenSet>,
+    /// Each fitted experiment's worth (campaigns of two or more).
+    pub experiments: Vec<ExperimentGain>,
+    /// With `--over-box`: the robust choice and how it compares.
+    pub over_box: Option<over_box::BoxChoice>,
+}
+
+/// Designs at the model's values: predictions for the placed sensors and,
+/// as `settings` ask, the chosen candidates and the box design. `tick` is
+/// called once per simulation finished (progress).
+pub fn design(
+    model: &Model,
+    settings: &DesignSettings,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Design, DesignError> {
+    if let Some(k) = settings.choose {
+        if k > model.candidates.len() {
+            return Err(DesignError::TooManyChosen {
+                k,
+                candidates: model.candidates.len(),
+            });
+        }
+    }
+    let parts = fisher_parts(model, &model.nominal())?;
+    tick();
+    let placed_f = parts.placed();
+    let placed = predict(&parts, &placed_f, 0, &settings.uncertainty);
+    let r = parts.columns.len();
+    let over_box = match (settings.choose, settings.over_box) {
+        (Some(k), Some(n)) => Some(over_box::choose_over_box(
+            model, &parts, k, n, settings, tick,
+        )?),
+        _ => None,
+    };
+    let chosen = settings.choose.map(|k| {
+        let choice = match &over_box {
+            Some(b) => b.robust.clone(),
+            None => {
+                choose::choose(
+                    std::slice::from_ref(&placed_f),
+                    &[parts.candidates()],
+                    k,
+                    settings.force_greedy,
+                )
+                .chosen
+            }
+        };
+        chosen_set(
+            model,
+            &parts,
+            &placed_f,
+            choice,
+            k,
+            over_box.as_ref(),
+            settings,
+            r,
+        )
+    });
+    let final_set = chosen.as_ref().map_or(&[][..], |c| c.chosen.as_slice());
+    let experiments = experiment_gains(&parts, final_set);
+    Ok(Design {
+        parts,
+        placed,
+        chosen,
+        experiments,
+        over_box,
+    })
+}
+
+/// The chosen set's prediction and certificate.
+#[allow(clippy::too_many_arguments)]
+fn chosen_set(
+    model: &Model,
+    parts: &FisherParts,
+    placed_f: &DMatrix<f64>,
+    chosen: Vec<usize>,
+    k: usize,
+    over_box: Option<&over_box::BoxChoice>,
+    settings: &DesignSettings,
+    r: usize,
+) -> ChosenSet {
+    let cand = parts.candidates();
+    let f = chosen.iter().fold(placed_f.clone(), |m, &i| m + &cand[i]);
+    let prediction = predict(parts, &f, chosen.len(), &settings.uncertainty);
+    let upper_bound = bound::upper_bound(std::slice::from_ref(placed_f), &[cand], k);
+    let efficiency_at_least = ((prediction.log_det - upper_bound) / r as f64)
+        .exp()
+        .min(1.0);
+    let search = match over_box {
+        Some(b) => b.search,
+        None if !settings.force_greedy
+            && choose::binomial(model.candidates.len(), k) <= choose::EXHAUSTIVE_LIMIT =>
+        {
+            Search::Exhaustive
+        }
+        None => Search::GreedyExchange,
+    };
+    ChosenSet {
+        names: chosen
+            .iter()
+            .map(|&i| model.candidates[i].name.clone())
+            .collect(),
+        chosen,
+        search,
+        prediction,
+        upper_bound,
+        efficiency_at_least,
+    }
+}
+
+/// Each fitted experiment's information gain, with the placed sensors and
+/// the candidates `chosen` (only for two or more experiments).
+fn experiment_gains(parts: &FisherParts, chosen: &[usize]) -> Vec<ExperimentGain> {
+    if parts.experiments.len() < 2 {
+        return Vec::new();
+    }
+    let r = parts.columns.len();
+    let each: Vec<DMatrix<f64>> = parts
+        .experiments
+        .iter()
+        .map(|e| {
+            chosen
+                .iter()
+                .fold(e.placed.clone(), |m, &i| m + &e.candidates[i])
+        })
+        .collect();
+    let total = each.iter().fold(DMatrix::zeros(r, r), |m, f| m + f);
+    let all = log_det(&total);
+    parts
+        .experiments
+        .iter()
+        .zip(&each)
+        .map(|(e, f)| {
+            let gain = all - log_det(&(&total - f));
+            ExperimentGain {
+                name: e.name.clone(),
+                log_det_gain: gain,
+                efficiency_without: (-gain / r as f64).exp(),
+            }
+        })
+        .collect()
+}

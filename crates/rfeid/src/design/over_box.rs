@@ -1,0 +1,112 @@
+//! A design for parameters not yet known: the choice that maximises the
+//! average `log det F` over N LP_τ points of the parameter box (eq. 18–19),
+//! and how it compares with each point's own best choice and with the
+//! choice at the values.
+use super::choose::{choose, criterion, Search};
+use super::fisher::{fisher_parts, FisherParts};
+use super::{DesignError, DesignSettings};
+use crate::identification::box_map::BoxMap;
+use crate::identification::plan::lp_tau_plan;
+use crate::model::Model;
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// The box design.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoxChoice {
+    /// The robust choice (candidate indices, ascending).
+    pub robust: Vec<usize>,
+    /// How it was found.
+    pub search: Search,
+    /// The choice at the parameters' values alone.
+    pub at_values: Vec<usize>,
+    /// Points of the box used (those that simulated).
+    pub points: usize,
+    /// Points whose simulation failed (left out), with the first reason.
+    pub failed: usize,
+    /// The first failure's reason.
+    pub first_failure: Option<String>,
+    /// Points whose own best choice is the robust one.
+    pub agree: usize,
+    /// The robust choice's D-efficiency at each point against that point's
+    /// own best, `exp((log det F(robust) − log det F(best))/r)`.
+    pub efficiency: Vec<f64>,
+}
+
+/// The parameters' values at plan point `u` (normalised, one coordinate
+/// per identified parameter), the others at their values.
+fn point_values(model: &Model, u: &[f64]) -> Vec<f64> {
+    let mut x = model.nominal();
+    for (&i, &ui) in model.identified().iter().zip(u) {
+        let p = &model.parameters[i];
+        let (lo, hi) = p.bounds.expect("identified parameters have boxes");
+        x[i] = BoxMap::new(lo, hi, p.scale).to_physical(ui);
+    }
+    x
+}
+
+/// The D-optimal K for the average over `n` LP_τ points of the box;
+/// `values` holds the pieces at the parameters' values.
+pub fn choose_over_box(
+    model: &Model,
+    values: &FisherParts,
+    k: usize,
+    n: usize,
+    settings: &DesignSettings,
+    tick: &(dyn Fn() + Sync),
+) -> Result<BoxChoice, DesignError> {
+    let plan =
+        lp_tau_plan(model.identified().len(), n).map_err(|e| DesignError::Plan(e.to_string()))?;
+    let results: Vec<Result<FisherParts, DesignError>> = (0..plan.len())
+        .into_par_iter()
+        .map(|p| {
+            let parts = fisher_parts(model, &point_values(model, plan.point(p)));
+            tick();
+            parts
+        })
+        .collect();
+    let failed = results.iter().filter(|r| r.is_err()).count();
+    let first_failure = results
+        .iter()
+        .find_map(|r| r.as_ref().err().map(|e| e.to_string()));
+    let parts: Vec<FisherParts> = results.into_iter().filter_map(Result::ok).collect();
+    if parts.is_empty() {
+        return Err(DesignError::EveryPointFailed {
+            points: n,
+            first: first_failure.unwrap_or_default(),
+        });
+    }
+    let base: Vec<DMatrix<f64>> = parts.iter().map(FisherParts::placed).collect();
+    let cand: Vec<Vec<DMatrix<f64>>> = parts.iter().map(FisherParts::candidates).collect();
+    let robust = choose(&base, &cand, k, settings.force_greedy);
+    let at_values = choose(
+        &[values.placed()],
+        &[values.candidates()],
+        k,
+        settings.force_greedy,
+    )
+    .chosen;
+    let r = values.columns.len() as f64;
+    let own: Vec<(bool, f64)> = (0..parts.len())
+        .into_par_iter()
+        .map(|p| {
+            let (b, c) = (&base[p..=p], &cand[p..=p]);
+            let best = choose(b, c, k, settings.force_greedy);
+            let mine = criterion(b, c, &robust.chosen);
+            (
+                best.chosen == robust.chosen,
+                ((mine - best.log_det) / r).exp().min(1.0),
+            )
+        })
+        .collect();
+    Ok(BoxChoice {
+        robust: robust.chosen,
+        search: robust.search,
+        at_values,
+        points: parts.len(),
+        failed,
+        first_failure,
+        agree: own.iter().filter(|o| o.0).count(),
+        efficiency: own.iter().map(|o| o.1).collect(),
+    })
+}

@@ -1,0 +1,214 @@
+//! Experiment design (SPEC §6) against exact references: the prediction
+//! equals the Cramér–Rao bound of the whole weighted Jacobian, the
+//! greedy-plus-exchange choice is within 1 % D-efficiency of a brute-force
+//! search over every subset, and the relaxation's bound lies above every
+//! subset.
+use nalgebra::DMatrix;
+use rfeid::design::choose::{choose, criterion, log_det};
+use rfeid::design::fisher::fisher_parts;
+use rfeid::design::{bound, design, DesignSettings};
+use rfeid::identification::output_error::OutputError;
+use rfeid::identification::problem::LeastSquares;
+use rfeid::identification::uncertainty::{cramer_rao_mapped, UncertaintySettings};
+use rfeid::io::model_file::load_model;
+use rfeid::model::Model;
+use rfeid::simulation::Simulator;
+use std::path::Path;
+
+/// The knee–column with its 3 placed sensors and 21 candidates.
+fn knee_column() -> Model {
+    load_model(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml"))
+        .expect("the example loads")
+}
+
+/// The Cramér–Rao standard errors of the model's placed sensors from the
+/// whole Jacobian, rows weighted by 1/σ_c (the identification's own
+/// path: QR of the stacked Jacobian, eq. 26–29 with s² = 1).
+fn exact_std_errors(model: &Model) -> Vec<f64> {
+    let x = model.nominal();
+    let sim = Simulator::choose(model, &x).unwrap();
+    let measured = sim.response_buffer();
+    let mut problem = OutputError::new(sim, measured, 0);
+    let w: Vec<f64> = model
+        .sensors
+        .iter()
+        .map(|s| s.noise.unwrap().powi(-2))
+        .collect();
+    problem.set_weights(&w);
+    let cols: Vec<f64> = problem.columns().iter().map(|c| x[c.parameter]).collect();
+    let u = problem.to_normalised(&cols);
+    let n = problem.n_residuals();
+    let mut jac = DMatrix::zeros(n, cols.len());
+    let mut r = vec![0.0; n];
+    problem
+        .residuals_jacobian(&mut problem.workspace(), &u, &mut r, &mut jac)
+        .unwrap();
+    let ssr = (n - cols.len() - 1) as f64; // s² = 1: σ is in the weights.
+    let b = cramer_rao_mapped(
+        &jac,
+        ssr,
+        &problem.dx_du(&u),
+        problem.widths(),
+        &UncertaintySettings::default(),
+    )
+    .unwrap();
+    b.std_errors
+}
+
+#[test]
+fn prediction_equals_the_exact_cramer_rao_bound() {
+    let model = knee_column();
+    let exact = exact_std_errors(&model);
+    let d = design(&model, &DesignSettings::default(), &|| {}).unwrap();
+    assert_eq!(d.placed.std_errors.len(), exact.len());
+    for (j, (p, e)) in d.placed.std_errors.iter().zip(&exact).enumerate() {
+        let rel = (p / e - 1.0).abs();
+        assert!(
+            rel < 1e-6,
+            "{}: predicted {p:e}, exact {e:e}",
+            d.parts.columns[j]
+        );
+    }
+    assert_eq!(d.placed.observations, 9000);
+}
+
+#[test]
+fn a_candidate_at_a_placed_sensor_carries_its_information() {
+    // The candidates' shares come from the same simulation as the placed
+    // sensors': a candidate equal to a placed sensor gives its share.
+    let mut model = knee_column();
+    let mut twin = model.sensors[1].clone();
+    twin.name = "twin".into();
+    model.candidates = vec![twin];
+    let parts = fisher_parts(&model, &model.nominal()).unwrap();
+    let mut alone = model.clone();
+    alone.sensors = vec![model.sensors[1].clone()];
+    alone.candidates.clear();
+    let single = fisher_parts(&alone, &alone.nominal()).unwrap();
+    let diff = (&parts.candidate(0) - single.placed()).abs().max();
+    assert!(diff <= 1e-9 * single.placed().abs().max(), "{diff:e}");
+}
+
+#[test]
+fn greedy_exchange_is_within_one_percent_of_brute_force() {
+    let model = knee_column();
+    let parts = fisher_parts(&model, &model.nominal()).unwrap();
+    let base = [parts.placed()];
+    let cand = [parts.candidates()];
+    let r = parts.columns.len() as f64;
+    assert_eq!(cand[0].len(), 21);
+    for k in [1, 2, 3, 4] {
+        let brute = choose(&base, &cand, k, false);
+        let greedy = choose(&base, &cand, k, true);
+        let efficiency = ((greedy.log_det - brute.log_det) / r).exp();
+        assert!(efficiency >= 0.99, "K = {k}: D-efficiency {efficiency}");
+        // The brute force is the maximum over every subset ...
+        let mut all = 0;
+        let mut best = f64::NEG_INFINITY;
+        subsets(21, k, &mut Vec::new(), &mut |s| {
+            all += 1;
+            best = best.max(criterion(&base, &cand, s));
+        });
+        assert_eq!(brute.log_det, best, "K = {k}");
+        // ... and the relaxation bounds it from above.
+        let upper = bound::upper_bound(&base, &cand, k);
+        assert!(upper >= best - 1e-9, "K = {k}: bound {upper} below {best}");
+        eprintln!(
+            "K = {k}: {all} subsets, best log det {best:.4}, greedy+exchange {:.4} (efficiency {efficiency:.5}), bound {upper:.4}",
+            greedy.log_det
+        );
+    }
+}
+
+/// Calls `f` with every k-subset of 0..n.
+fn subsets(n: usize, k: usize, s: &mut Vec<usize>, f: &mut dyn FnMut(&[usize])) {
+    if s.len() == k {
+        f(s);
+        return;
+    }
+    let from = s.last().map_or(0, |&i| i + 1);
+    for i in from..n {
+        s.push(i);
+        subsets(n, k, s, f);
+        s.pop();
+    }
+}
+
+#[test]
+fn log_det_is_invariant_to_the_order_of_the_sum() {
+    let model = knee_column();
+    let parts = fisher_parts(&model, &model.nominal()).unwrap();
+    let c = parts.candidates();
+    let a = log_det(&(parts.placed() + &c[3] + &c[7]));
+    let b = log_det(&(&c[7] + &c[3] + parts.placed()));
+    assert!((a - b).abs() < 1e-9 * a.abs());
+}
+
+/// A campaign's prediction is the Cramér–Rao bound of its stacked
+/// Jacobian (every fitted experiment, each sensor weighted by 1/σ²), and
+/// each experiment's gain is what dropping it costs.
+#[test]
+fn a_campaign_prediction_is_the_bound_of_its_stacked_jacobian() {
+    use rfeid::identification::output_error::ExperimentData;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/knee-column-campaign/model.toml");
+    let mut model = load_model(&path).expect("the campaign loads");
+    for (c, s) in model.sensors.iter_mut().enumerate() {
+        s.noise = Some(1e-3 * (c + 1) as f64);
+    }
+    let x = model.nominal();
+    let models: Vec<Model> = model
+        .fitted_experiments()
+        .iter()
+        .map(|&e| model.for_experiment(e))
+        .collect();
+    let parts: Vec<ExperimentData> = models
+        .iter()
+        .zip(model.fitted_experiments())
+        .map(|(m, e)| {
+            let sim = Simulator::choose(m, &m.nominal()).unwrap();
+            ExperimentData {
+                name: model.experiments[e].name.clone(),
+                measured: sim.response_buffer(),
+                sim,
+                first: 0,
+                weight: 1.0,
+            }
+        })
+        .collect();
+    let mut problem = OutputError::campaign(parts);
+    let w: Vec<f64> = models
+        .iter()
+        .flat_map(|m| m.sensors.iter().map(|s| s.noise.unwrap().powi(-2)))
+        .collect();
+    problem.set_weights(&w);
+    let cols: Vec<f64> = problem.columns().iter().map(|c| x[c.parameter]).collect();
+    let u = problem.to_normalised(&cols);
+    let n = problem.n_residuals();
+    let mut jac = DMatrix::zeros(n, cols.len());
+    let mut r = vec![0.0; n];
+    problem
+        .residuals_jacobian(&mut problem.workspace(), &u, &mut r, &mut jac)
+        .unwrap();
+    let exact = cramer_rao_mapped(
+        &jac,
+        (n - cols.len() - 1) as f64,
+        &problem.dx_du(&u),
+        problem.widths(),
+        &UncertaintySettings::default(),
+    )
+    .unwrap()
+    .std_errors;
+    let d = design(&model, &DesignSettings::default(), &|| {}).unwrap();
+    for (p, e) in d.placed.std_errors.iter().zip(&exact) {
+        assert!((p / e - 1.0).abs() < 1e-6, "predicted {p:e}, exact {e:e}");
+    }
+    // Dropping an experiment costs exactly its gain.
+    assert_eq!(d.experiments.len(), 3);
+    let total = log_det(&d.parts.placed());
+    for (e, g) in d.parts.experiments.iter().zip(&d.experiments) {
+        let without = log_det(&(d.parts.placed() - &e.placed));
+        assert!((total - without - g.log_det_gain).abs() < 1e-9 * total.abs());
+        assert!(g.log_det_gain > 0.0);
+    }
+}
