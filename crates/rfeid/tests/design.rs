@@ -212,3 +212,44 @@ fn a_campaign_prediction_is_the_bound_of_its_stacked_jacobian() {
         assert!(g.log_det_gain > 0.0);
     }
 }
+
+/// Candidates read through their body's six-reading basis carry the same
+/// information as each one simulated as a sensor of its own: the knee's
+/// and column's accelerometers, and eight velocity pick-ups at seeded
+/// points and directions on the column.
+#[test]
+fn candidates_read_through_a_body_basis_equal_their_own_simulation() {
+    use rfeid::design::fisher::fisher_parts_with;
+    use rfeid::model::SensorKind;
+    let mut model = knee_column();
+    let mut seed: u64 = 0x5eed_0026;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let template = model.candidates.last().unwrap().clone();
+    for k in 0..8 {
+        let mut s = template.clone();
+        s.name = format!("v{k}");
+        s.kind = SensorKind::Velocity;
+        s.at = nalgebra::Vector3::new(next(), next(), 0.8 + next());
+        s.direction = nalgebra::Vector3::new(next(), next(), next()).normalize();
+        s.noise = Some(1e-5);
+        model.candidates.push(s);
+    }
+    let x = model.nominal();
+    let via_basis = fisher_parts_with(&model, &x, true).unwrap();
+    let direct = fisher_parts_with(&model, &x, false).unwrap();
+    for i in 0..model.candidates.len() {
+        let (a, b) = (via_basis.candidate(i), direct.candidate(i));
+        let err = (&a - &b).abs().max() / b.abs().max();
+        assert!(
+            err < 1e-9,
+            "{}: relative difference {err:e}",
+            model.candidates[i].name
+        );
+    }
+    assert_eq!(via_basis.placed(), direct.placed());
+}

@@ -137,18 +137,29 @@ fn ridged(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>]) -> Vec<DMatrix<f64>
         .collect()
 }
 
-/// The best candidate of `pool` to add to `s` (lowest index on ties).
+/// Most exchange passes (each tries every swap; they rarely take more
+/// than a few).
+const MAX_EXCHANGES: usize = 50;
+
+/// Each point's `base` plus the candidates of `s`.
+fn sums(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], s: &[usize]) -> Vec<DMatrix<f64>> {
+    base.iter()
+        .zip(cand)
+        .map(|(b, c)| s.iter().fold(b.clone(), |m, &i| m + &c[i]))
+        .collect()
+}
+
+/// The best candidate of `pool` to add to the sums `m` (lowest index on
+/// ties): `Σ_p log det (m_p + F_pi)`, each in O(r³).
 fn best_addition(
-    base: &[DMatrix<f64>],
+    m: &[DMatrix<f64>],
     cand: &[Vec<DMatrix<f64>>],
-    s: &[usize],
     pool: &[usize],
 ) -> Option<(usize, f64)> {
     pool.par_iter()
         .map(|&i| {
-            let mut t = s.to_vec();
-            t.push(i);
-            (i, criterion(base, cand, &t))
+            let v = m.iter().zip(cand).map(|(m, c)| log_det(&(m + &c[i]))).sum();
+            (i, v)
         })
         .reduce_with(|a, b| {
             if b.1 > a.1 || (b.1 == a.1 && b.0 < a.0) {
@@ -162,35 +173,35 @@ fn best_addition(
 /// K greedy additions (on the ridged information).
 fn greedy(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], k: usize) -> Vec<usize> {
     let n = cand.first().map_or(0, Vec::len);
-    let ridge = ridged(base, cand);
+    let mut m = ridged(base, cand);
     let mut s = Vec::with_capacity(k);
     for _ in 0..k {
         let pool: Vec<usize> = (0..n).filter(|i| !s.contains(i)).collect();
-        match best_addition(&ridge, cand, &s, &pool) {
-            Some((i, _)) => s.push(i),
-            None => break,
+        let Some((i, _)) = best_addition(&m, cand, &pool) else {
+            break;
+        };
+        s.push(i);
+        for (m, c) in m.iter_mut().zip(cand) {
+            *m += &c[i];
         }
     }
     s
 }
 
 /// Fedorov exchanges: the best swap of a chosen and an unchosen candidate,
-/// while it raises the criterion by more than rounding.
+/// while it raises the criterion by more than rounding (at most
+/// [`MAX_EXCHANGES`] passes).
 fn exchange(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], s: &mut [usize]) {
     let n = cand.first().map_or(0, Vec::len);
     let ridge = ridged(base, cand);
     let mut current = criterion(&ridge, cand, s);
-    for _ in 0..100 * s.len().max(1) {
+    for _ in 0..MAX_EXCHANGES {
+        let m = sums(&ridge, cand, s);
+        let pool: Vec<usize> = (0..n).filter(|i| !s.contains(i)).collect();
         let mut best: Option<(usize, usize, f64)> = None;
-        for slot in 0..s.len() {
-            let rest: Vec<usize> = s
-                .iter()
-                .enumerate()
-                .filter(|&(j, _)| j != slot)
-                .map(|(_, &i)| i)
-                .collect();
-            let pool: Vec<usize> = (0..n).filter(|i| !s.contains(i)).collect();
-            if let Some((i, v)) = best_addition(&ridge, cand, &rest, &pool) {
+        for (slot, &out) in s.iter().enumerate() {
+            let without: Vec<DMatrix<f64>> = m.iter().zip(cand).map(|(m, c)| m - &c[out]).collect();
+            if let Some((i, v)) = best_addition(&without, cand, &pool) {
                 if best.is_none_or(|b| v > b.2) {
                     best = Some((slot, i, v));
                 }

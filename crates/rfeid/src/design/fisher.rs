@@ -8,6 +8,7 @@
 //! the Cramér–Rao bound. F is a sum over sensors (and over a campaign's
 //! fitted experiments), so each sensor's share `F_c = Σ_k h_ckᵀh_ck / σ_c²`
 //! is computed once and any set of sensors is a sum of shares.
+use super::basis::{layout, member_shares, Layout};
 use super::DesignError;
 use crate::identification::output_error::{ExperimentData, OutputError};
 use crate::identification::problem::LeastSquares;
@@ -90,9 +91,10 @@ fn noise_of(s: &Sensor, candidate: bool) -> Result<f64, DesignError> {
 }
 
 /// The model as each fitted experiment sees it (the model itself without
-/// experiments), with the candidates appended to its sensors and the
-/// identified parameters at `x` (all of the model's values, SI).
-fn experiment_models(model: &Model, x: &[f64]) -> Vec<(String, Model, usize)> {
+/// experiments), with the sensors that read the candidates (`extra`)
+/// appended to its sensors and the identified parameters at `x` (all of
+/// the model's values, SI).
+fn experiment_models(model: &Model, x: &[f64], extra: &[Sensor]) -> Vec<(String, Model, usize)> {
     let fitted = model.fitted_experiments();
     let seen: Vec<(String, Model, f64)> = if model.experiments.is_empty() {
         vec![(String::new(), model.clone(), 0.0)]
@@ -111,7 +113,7 @@ fn experiment_models(model: &Model, x: &[f64]) -> Vec<(String, Model, usize)> {
                 m.parameters[i].value = x[i];
             }
             let first = m.sampling.first_sample(from);
-            m.sensors.extend(model.candidates.iter().cloned());
+            m.sensors.extend(extra.iter().cloned());
             (name, m, first)
         })
         .collect()
@@ -119,16 +121,32 @@ fn experiment_models(model: &Model, x: &[f64]) -> Vec<(String, Model, usize)> {
 
 /// Every sensor's share of the Fisher information at the model's values
 /// `x` (all parameters, SI), each fitted experiment simulated once with
-/// sensitivities (steps chosen there for the model's tolerance). Every
-/// placed sensor and candidate needs its `noise`.
+/// sensitivities (steps chosen there for the model's tolerance); many
+/// candidates on one body are read through its basis ([`super::basis`]).
+/// Every placed sensor and candidate needs its `noise`.
 pub fn fisher_parts(model: &Model, x: &[f64]) -> Result<FisherParts, DesignError> {
-    let mut weights = Vec::new();
-    let models = experiment_models(model, x);
+    fisher_parts_with(model, x, true)
+}
+
+/// [`fisher_parts`], with `basis = false` simulating every candidate as a
+/// sensor of its own (the reference the basis is tested against).
+pub fn fisher_parts_with(
+    model: &Model,
+    x: &[f64],
+    basis: bool,
+) -> Result<FisherParts, DesignError> {
+    for s in &model.candidates {
+        noise_of(s, true)?;
+    }
+    let layout = layout(model, basis);
+    let extra = layout.sensors(model);
+    let models = experiment_models(model, x, &extra);
     if models.is_empty() {
         return Err(DesignError::NoFittedExperiment);
     }
+    let mut weights = Vec::new();
     for (_, m, _) in &models {
-        let n_placed = m.sensors.len() - model.candidates.len();
+        let n_placed = m.sensors.len() - extra.len();
         for (c, s) in m.sensors.iter().enumerate() {
             weights.push(noise_of(s, c >= n_placed)?.powi(-2));
         }
@@ -177,7 +195,7 @@ pub fn fisher_parts(model: &Model, x: &[f64]) -> Result<FisherParts, DesignError
         let f = scale[j] / d;
         jac.column_mut(j).iter_mut().for_each(|v| *v *= f);
     }
-    let experiments = shares(&problem, &jac, model.candidates.len());
+    let experiments = shares(model, &problem, &jac, &layout, extra.len());
     Ok(FisherParts {
         columns,
         values,
@@ -189,25 +207,41 @@ pub fn fisher_parts(model: &Model, x: &[f64]) -> Result<FisherParts, DesignError
 
 /// Each experiment's sensor shares `BᵀB` of the Jacobian's row blocks
 /// (experiment by experiment, sensor by sensor, as the criterion stacks
-/// them), the last `n_candidates` sensors of each being the candidates.
-fn shares(problem: &OutputError, jac: &DMatrix<f64>, n_candidates: usize) -> Vec<ExperimentFisher> {
+/// them): the placed sensors', then the `n_extra` sensors that read the
+/// candidates as `layout` says.
+fn shares(
+    model: &Model,
+    problem: &OutputError,
+    jac: &DMatrix<f64>,
+    layout: &Layout,
+    n_extra: usize,
+) -> Vec<ExperimentFisher> {
     let r = jac.ncols();
     let mut row = 0;
     (0..problem.n_experiments())
         .map(|p| {
             let measured = problem.experiment_measured(p);
             let used = measured.n_samples - problem.experiment_first(p);
-            let n_placed = measured.n_sensors - n_candidates;
+            let n_placed = measured.n_sensors - n_extra;
+            let block = |row: &mut usize| {
+                let b = jac.rows(*row, used);
+                *row += used;
+                b
+            };
             let mut placed = DMatrix::zeros(r, r);
-            let mut candidates = Vec::with_capacity(n_candidates);
-            for c in 0..measured.n_sensors {
-                let block = jac.rows(row, used);
-                let share = block.transpose() * block;
-                row += used;
-                if c < n_placed {
-                    placed += share;
-                } else {
-                    candidates.push(share);
+            for _ in 0..n_placed {
+                let b = block(&mut row);
+                placed += b.transpose() * b;
+            }
+            let mut candidates = vec![DMatrix::zeros(r, r); model.candidates.len()];
+            for &i in &layout.direct {
+                let b = block(&mut row);
+                candidates[i] = b.transpose() * b;
+            }
+            for g in &layout.groups {
+                let blocks: Vec<_> = (0..6).map(|_| block(&mut row)).collect();
+                for (i, f) in member_shares(model, g, &blocks) {
+                    candidates[i] = f;
                 }
             }
             ExperimentFisher {

@@ -10,6 +10,7 @@
 //! the choice can be ([`bound`]); a campaign's experiments are ranked by
 //! the information each adds; `--over-box N` chooses for the average over N
 //! LP_τ points of the parameter box ([`over_box`]).
+pub mod basis;
 pub mod bound;
 pub mod choose;
 pub mod fisher;
