@@ -57,7 +57,7 @@ pub enum Command {
     Validate(ValidateArgs),
     /// Experiment design: predicted standard errors of a planned test, and the D-optimal choice of candidate sensors.
     #[command(
-        after_help = "Example:\n  rfeid design examples/knee-column-design/model.toml\n  rfeid design examples/knee-column-design/model.toml --choose 3 --report design/\n  rfeid design examples/knee-column-design/model.toml --choose 3 --over-box 16 -o design.json"
+        after_help = "Example:\n  rfeid design examples/knee-column/model.toml\n  rfeid design examples/knee-column/model.toml --choose 3 --report design/\n  rfeid design examples/knee-column/model.toml --choose 3 --over-box 16 -o design.json"
     )]
     Design(DesignArgs),
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.

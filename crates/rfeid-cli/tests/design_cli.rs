@@ -229,6 +229,22 @@ fn design_mistakes_exit_2_naming_file_entry_and_field() {
             vec![],
             vec!["k1x", "noise", "m.toml"],
         ),
+        // A candidate's gain naming a parameter (nothing could identify it).
+        (
+            text.replacen(
+                "noise = \"1.0e-3 m/s^2\"\ncandidate = true",
+                "noise = \"1.0e-3 m/s^2\"\ngain = \"h_t3\"\ncandidate = true",
+                1,
+            ),
+            vec![],
+            vec!["k1x", "gain", "m.toml"],
+        ),
+        // A value outside its box.
+        (
+            text.clone(),
+            vec!["--set", "h_t3=1"],
+            vec!["--set h_t3", "outside its box"],
+        ),
         // K beyond the candidates.
         (
             text.clone(),

@@ -253,3 +253,40 @@ fn candidates_read_through_a_body_basis_equal_their_own_simulation() {
     }
     assert_eq!(via_basis.placed(), direct.placed());
 }
+
+/// Two parameters the test cannot tell apart (two equal springs at one
+/// point) make a singular Fisher matrix: no standard errors, and the
+/// reason names both, as `identify` would.
+#[test]
+fn a_singular_design_names_the_parameters_it_cannot_tell_apart() {
+    use rfeid::identification::uncertainty::{cramer_rao_fisher, UncertaintyError};
+    let j = DMatrix::from_row_slice(
+        4,
+        3,
+        &[
+            1.0, 2.0, 2.0, //
+            0.5, 1.0, 1.0, //
+            3.0, 0.1, 0.1, //
+            1.0, 4.0, 4.0,
+        ],
+    );
+    let f = j.transpose() * &j;
+    let e = cramer_rao_fisher(&f, 4, &[1.0; 3], &[1.0; 3], &UncertaintySettings::default())
+        .unwrap_err();
+    match e {
+        UncertaintyError::Singular { parameters, .. } => assert_eq!(parameters, vec![1, 2]),
+        other => panic!("{other}"),
+    }
+    // Nearly equal columns stay regular, with their large standard errors.
+    let mut k = j.clone();
+    k[(0, 2)] += 0.05;
+    let ok = cramer_rao_fisher(
+        &(k.transpose() * &k),
+        4,
+        &[1.0; 3],
+        &[1.0; 3],
+        &UncertaintySettings::default(),
+    )
+    .unwrap();
+    assert!(ok.std_errors[1] > 10.0 && ok.std_errors[1].is_finite());
+}

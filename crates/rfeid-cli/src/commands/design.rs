@@ -35,6 +35,14 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     check_args(&args, &model)?;
     let mut values = model.nominal();
     apply_sets(&model, &args.set, &mut values)?;
+    for (p, v) in model.parameters.iter().zip(&values) {
+        if let Some((lo, hi)) = p.bounds.filter(|(lo, hi)| !(lo..=hi).contains(&v)) {
+            return Err(Failure::input_msg(format!(
+                "--set {}: {v:e} lies outside its box [{lo:e}, {hi:e}] (SI): a design predicts inside the box; widen min and max in the model file to design there",
+                p.name
+            )));
+        }
+    }
     for (p, v) in model.parameters.iter_mut().zip(values) {
         p.value = v;
     }
@@ -48,23 +56,18 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     let found = design(&model, &settings, &|| bar.inc(1)).map_err(|e| design_failure(&args, e))?;
     bar.finish_and_clear();
     let json = design_json(&model, &found);
+    // The report first and the design last, as identify puts its result.
     let mut batch = outputs.batch();
-    if let Some(path) = &args.output {
+    if args.report.is_some() {
+        let title = args.model.display().to_string();
+        let files = rfeid::report::design::design_report_files(&model, &found, &title);
+        batch.report("--report", &files)?;
+    }
+    if args.output.is_some() {
         let mut text = serde_json::to_vec_pretty(&json)
             .map_err(|e| Failure::failed(format!("the design as JSON: {e}")))?;
         text.push(b'\n');
         batch.file("-o", text)?;
-        if !outputs.uses_stdout() {
-            ui.note(format!("design written to {}", path.display()));
-        }
-    }
-    if args.report.is_some() {
-        let files = rfeid::report::design::design_report_files(
-            &model,
-            &found,
-            &args.model.display().to_string(),
-        );
-        batch.report("--report", &files)?;
     }
     batch.commit()?;
     if let Some(dir) = &args.report {
@@ -72,6 +75,9 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
             "report written to {}",
             dir.join("report.html").display()
         ));
+    }
+    if let (Some(path), false) = (&args.output, outputs.uses_stdout()) {
+        ui.note(format!("design written to {}", path.display()));
     }
     if outputs.uses_stdout() {
         return Ok(());

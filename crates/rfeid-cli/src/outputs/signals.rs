@@ -133,3 +133,26 @@ fn interrupted_message(sig: libc::c_int, placed: usize) -> String {
 /// No signal handling off Unix.
 #[cfg(not(unix))]
 pub fn install() {}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::interrupted_message;
+
+    #[test]
+    fn an_interruption_says_what_it_left() {
+        let none = interrupted_message(libc::SIGINT, 0);
+        assert!(
+            none.contains("interrupted by SIGINT (exit status 130)"),
+            "{none}"
+        );
+        assert!(none.contains("no output was written"), "{none}");
+        let two = interrupted_message(libc::SIGTERM, 2);
+        assert!(two.contains("SIGTERM (exit status 143)"), "{two}");
+        assert!(two.contains("its 2 outputs had been written"), "{two}");
+        let one = interrupted_message(libc::SIGHUP, 1);
+        assert!(
+            one.contains("SIGHUP (exit status 129): its output had been written"),
+            "{one}"
+        );
+    }
+}

@@ -2,9 +2,8 @@
 //! errors (placed, and chosen with `--choose`), the choice's certificate,
 //! the experiments' worth, and the JSON of SPEC §6.
 use crate::format::{sig, table};
-use rfeid::design::predict::Prediction;
+use rfeid::design::predict::{warning_texts, Prediction};
 use rfeid::design::Design;
-use rfeid::identification::uncertainty::IdentifiabilityWarning;
 use rfeid::model::{ColumnName, Model, Parameter};
 use serde_json::{json, Value};
 
@@ -15,44 +14,6 @@ fn parameter<'m>(model: &'m Model, name: &str) -> &'m Parameter {
         .parameter_index(&c.name)
         .expect("a design's columns are the model's parameters");
     &model.parameters[i]
-}
-
-/// A prediction's warnings in words, parameters by name.
-pub fn warning_texts(columns: &[String], p: &Prediction) -> Vec<String> {
-    let mut out: Vec<String> = p
-        .warnings
-        .iter()
-        .map(|w| match w {
-            IdentifiabilityWarning::StdErrorExceedsBox {
-                index,
-                std_error,
-                box_width,
-            } => format!(
-                "{}: the standard error {} exceeds the box's width {} (SI)",
-                columns[*index],
-                sig(*std_error, 3),
-                sig(*box_width, 3)
-            ),
-            IdentifiabilityWarning::StrongCorrelation {
-                first,
-                second,
-                correlation,
-            } => format!(
-                "{} and {} are correlated ({}): the test determines mostly a combination of them",
-                columns[*first],
-                columns[*second],
-                sig(*correlation, 3)
-            ),
-            IdentifiabilityWarning::IllConditioned { condition_number } => format!(
-                "the scaled Fisher matrix is ill-conditioned (condition number {})",
-                sig(*condition_number, 3)
-            ),
-        })
-        .collect();
-    if let Some(e) = &p.error {
-        out.push(format!("no standard errors: {e}"));
-    }
-    out
 }
 
 /// One prediction as JSON: log det, standard errors by parameter,
@@ -149,7 +110,8 @@ fn parameter_table(model: &Model, d: &Design) -> String {
             let p = parameter(model, name);
             let shown = |v: f64| sig(v / p.unit.scale, 4);
             let se = |pr: &Prediction| match (pr.std_errors.get(j), pr.relative_std_errors.get(j)) {
-                (Some(s), Some(r)) => [shown(*s), format!("{:.3}", 100.0 * r)],
+                (Some(s), Some(r)) if r.is_finite() => [shown(*s), format!("{:.3}", 100.0 * r)],
+                (Some(s), _) => [shown(*s), "-".into()],
                 _ => ["-".into(), "-".into()],
             };
             let mut row = vec![

@@ -106,12 +106,15 @@ pub fn choose(
                     }
                 },
             );
-        let chosen = unrank(best.1.min(subsets.saturating_sub(1)), n, k);
-        return Choice {
-            log_det: criterion(base, cand, &chosen),
-            chosen,
-            search: Search::Exhaustive,
-        };
+        // Every subset singular: rank them on the ridged information.
+        if best.0 > f64::NEG_INFINITY {
+            let chosen = unrank(best.1, n, k);
+            return Choice {
+                log_det: criterion(base, cand, &chosen),
+                chosen,
+                search: Search::Exhaustive,
+            };
+        }
     }
     let mut chosen = greedy(base, cand, k);
     exchange(base, cand, &mut chosen);

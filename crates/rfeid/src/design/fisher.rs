@@ -87,6 +87,7 @@ fn noise_of(s: &Sensor, candidate: bool) -> Result<f64, DesignError> {
     s.noise.ok_or_else(|| DesignError::NoNoise {
         sensor: s.name.clone(),
         candidate,
+        unit: s.kind.unit().to_string(),
     })
 }
 

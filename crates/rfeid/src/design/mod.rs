@@ -29,12 +29,24 @@ use predict::{predict, Prediction};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DesignError {
     /// A sensor lacks the standard deviation of its noise.
-    #[error("sensor \"{sensor}\": `noise` is missing: a design needs every {} sensor's noise standard deviation (e.g. noise = \"0.02 m/s^2\")", if *candidate { "candidate" } else { "placed" })]
+    #[error("sensor \"{sensor}\": `noise` is missing: a design needs every {} sensor's noise standard deviation (e.g. noise = \"1e-3 {unit}\")", if *candidate { "candidate" } else { "placed" })]
     NoNoise {
         /// The sensor.
         sensor: String,
         /// Whether it is a candidate.
         candidate: bool,
+        /// Its reading's unit.
+        unit: String,
+    },
+    /// A box design would hold too many Fisher matrices.
+    #[error("--over-box {points} with {candidates} candidates would hold {gib:.1} GiB of Fisher matrices (at most 4 GiB): use fewer points")]
+    TooLarge {
+        /// Points asked for.
+        points: usize,
+        /// Candidates.
+        candidates: usize,
+        /// Memory needed, GiB.
+        gib: f64,
     },
     /// The model identifies no parameter.
     #[error(
@@ -113,7 +125,8 @@ pub struct ExperimentGain {
     pub name: String,
     /// `log det F − log det F_without`: the information it adds.
     pub log_det_gain: f64,
-    /// The D-efficiency of the campaign without it, `exp(−gain/r)`.
+    /// The D-efficiency of the campaign without it, `exp(−gain/r)` over
+    /// the shared parameters.
     pub efficiency_without: f64,
 }
 
@@ -148,6 +161,18 @@ pub fn design(
             });
         }
     }
+    // Without --choose the candidates play no part (and need no noise).
+    let without;
+    let model = match settings.choose {
+        Some(_) => model,
+        None => {
+            without = Model {
+                candidates: Vec::new(),
+                ..model.clone()
+            };
+            &without
+        }
+    };
     let parts = fisher_parts(model, &model.nominal())?;
     tick();
     let placed_f = parts.placed();
@@ -236,7 +261,9 @@ fn chosen_set(
 }
 
 /// Each fitted experiment's information gain, with the placed sensors and
-/// the candidates `chosen` (only for two or more experiments).
+/// the candidates `chosen` (only for two or more experiments), on the
+/// parameters it shares with the others: its own `name[experiment]`
+/// columns go with it.
 fn experiment_gains(parts: &FisherParts, chosen: &[usize]) -> Vec<ExperimentGain> {
     if parts.experiments.len() < 2 {
         return Vec::new();
@@ -252,17 +279,23 @@ fn experiment_gains(parts: &FisherParts, chosen: &[usize]) -> Vec<ExperimentGain
         })
         .collect();
     let total = each.iter().fold(DMatrix::zeros(r, r), |m, f| m + f);
-    let all = log_det(&total);
     parts
         .experiments
         .iter()
         .zip(&each)
         .map(|(e, f)| {
-            let gain = all - log_det(&(&total - f));
+            let keep: Vec<usize> = (0..r)
+                .filter(|&j| {
+                    let Ok(c) = parts.columns[j].parse::<crate::model::ColumnName>();
+                    c.experiment.as_deref() != Some(e.name.as_str())
+                })
+                .collect();
+            let shared = |m: &DMatrix<f64>| m.select_rows(&keep).select_columns(&keep);
+            let gain = log_det(&shared(&total)) - log_det(&shared(&(&total - f)));
             ExperimentGain {
                 name: e.name.clone(),
                 log_det_gain: gain,
-                efficiency_without: (-gain / r as f64).exp(),
+                efficiency_without: (-gain / keep.len().max(1) as f64).exp(),
             }
         })
         .collect()

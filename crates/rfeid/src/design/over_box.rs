@@ -26,12 +26,18 @@ pub struct BoxChoice {
     pub failed: usize,
     /// The first failure's reason.
     pub first_failure: Option<String>,
-    /// Points whose own best choice is the robust one.
+    /// Points whose own best choice is the robust one (or as good, to
+    /// rounding: equivalent sets count).
     pub agree: usize,
     /// The robust choice's D-efficiency at each point against that point's
-    /// own best, `exp((log det F(robust) − log det F(best))/r)`.
+    /// own best, `exp((log det F(robust) − log det F(best))/r)` (NaN where
+    /// every set is singular there).
     pub efficiency: Vec<f64>,
 }
+
+/// Most memory the box's Fisher matrices may take (points × candidates ×
+/// r² values), bytes.
+const MAX_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
 
 /// The parameters' values at plan point `u` (normalised, one coordinate
 /// per identified parameter), the others at their values.
@@ -55,6 +61,15 @@ pub fn choose_over_box(
     settings: &DesignSettings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<BoxChoice, DesignError> {
+    let r = values.columns.len();
+    let bytes = n as f64 * model.candidates.len() as f64 * (r * r * 8) as f64;
+    if bytes > MAX_BYTES {
+        return Err(DesignError::TooLarge {
+            points: n,
+            candidates: model.candidates.len(),
+            gib: bytes / (1u64 << 30) as f64,
+        });
+    }
     let plan =
         lp_tau_plan(model.identified().len(), n).map_err(|e| DesignError::Plan(e.to_string()))?;
     let results: Vec<Result<FisherParts, DesignError>> = (0..plan.len())
@@ -86,17 +101,18 @@ pub fn choose_over_box(
         settings.force_greedy,
     )
     .chosen;
-    let r = values.columns.len() as f64;
+    let r = r as f64;
     let own: Vec<(bool, f64)> = (0..parts.len())
         .into_par_iter()
         .map(|p| {
             let (b, c) = (&base[p..=p], &cand[p..=p]);
             let best = choose(b, c, k, settings.force_greedy);
             let mine = criterion(b, c, &robust.chosen);
-            (
-                best.chosen == robust.chosen,
-                ((mine - best.log_det) / r).exp().min(1.0),
-            )
+            if best.log_det == f64::NEG_INFINITY {
+                return (false, f64::NAN);
+            }
+            let same = mine >= best.log_det - 1e-9 * best.log_det.abs().max(1.0);
+            (same, ((mine - best.log_det) / r).exp().min(1.0))
         })
         .collect();
     Ok(BoxChoice {

@@ -4,7 +4,7 @@
 use super::choose::log_det;
 use super::fisher::FisherParts;
 use crate::identification::uncertainty::{
-    cramer_rao_fisher, IdentifiabilityWarning, UncertaintySettings,
+    cramer_rao_fisher, IdentifiabilityWarning, UncertaintyError, UncertaintySettings,
 };
 use nalgebra::DMatrix;
 
@@ -17,8 +17,7 @@ pub struct Prediction {
     pub observations: usize,
     /// Standard errors, SI (empty when F is singular).
     pub std_errors: Vec<f64>,
-    /// Standard errors relative to the values (to the scale s_j where a
-    /// value is 0).
+    /// Standard errors relative to the values (NaN where a value is 0).
     pub relative_std_errors: Vec<f64>,
     /// Correlations of the estimates (empty when F is singular).
     pub correlation: Vec<Vec<f64>>,
@@ -47,8 +46,8 @@ pub fn predict(
             relative_std_errors: b
                 .std_errors
                 .iter()
-                .zip(&parts.scale)
-                .map(|(se, s)| se / s)
+                .zip(&parts.values)
+                .map(|(se, v)| if *v != 0.0 { se / v.abs() } else { f64::NAN })
                 .collect(),
             std_errors: b.std_errors,
             correlation: b
@@ -68,7 +67,62 @@ pub fn predict(
             correlation: Vec::new(),
             condition_number: None,
             warnings: Vec::new(),
-            error: Some(e.to_string()),
+            error: Some(error_text(&parts.columns, observations, &e)),
         },
     }
+}
+
+/// Why there are no standard errors, parameters by name.
+fn error_text(columns: &[String], observations: usize, e: &UncertaintyError) -> String {
+    match e {
+        UncertaintyError::Singular {
+            parameters,
+            condition_number,
+        } => {
+            let names: Vec<&str> = parameters.iter().map(|&j| columns[j].as_str()).collect();
+            format!(
+                "the Fisher matrix is singular (scaled condition number {condition_number:.3e}): {} cannot be told apart by this test",
+                names.join(", ")
+            )
+        }
+        UncertaintyError::TooFewObservations { .. } => format!(
+            "{observations} observations are too few for {} parameters",
+            columns.len()
+        ),
+        other => other.to_string(),
+    }
+}
+
+/// A prediction's warnings in words, parameters by name (and why there are
+/// no standard errors, if there are none).
+pub fn warning_texts(columns: &[String], p: &Prediction) -> Vec<String> {
+    let mut out: Vec<String> = p
+        .warnings
+        .iter()
+        .map(|w| match w {
+            IdentifiabilityWarning::StdErrorExceedsBox {
+                index,
+                std_error,
+                box_width,
+            } => format!(
+                "{}: the standard error {std_error:.3e} exceeds the box's width {box_width:.3e} (SI)",
+                columns[*index]
+            ),
+            IdentifiabilityWarning::StrongCorrelation {
+                first,
+                second,
+                correlation,
+            } => format!(
+                "{} and {} are correlated ({correlation:+.3}): the test determines mostly a combination of them",
+                columns[*first], columns[*second]
+            ),
+            IdentifiabilityWarning::IllConditioned { condition_number } => format!(
+                "the scaled Fisher matrix is ill-conditioned (condition number {condition_number:.3e})"
+            ),
+        })
+        .collect();
+    if let Some(e) = &p.error {
+        out.push(format!("no standard errors: {e}"));
+    }
+    out
 }

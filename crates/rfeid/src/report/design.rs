@@ -203,7 +203,10 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
         .iter()
         .enumerate()
         .map(|(j, n)| {
-            let pct = |v: Option<&f64>| v.map_or("-".into(), |v| sig(100.0 * v, 3));
+            let pct = |v: Option<&f64>| {
+                v.filter(|v| v.is_finite())
+                    .map_or("-".into(), |v| sig(100.0 * v, 3))
+            };
             let mut row = vec![
                 escape(n),
                 sig(d.parts.values[j], 4),
@@ -215,6 +218,7 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
             row
         })
         .collect();
+    warnings_html(&mut out, d);
     let mut header = vec!["parameter", "value (SI)", "rel. s.e. placed, %"];
     if d.chosen.is_some() {
         header.push("rel. s.e. chosen, %");
@@ -234,4 +238,20 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
     }
     out.push_str("</body>\n</html>\n");
     out
+}
+
+/// The predictions' warnings (and why there are no standard errors), as
+/// paragraphs.
+fn warnings_html(out: &mut String, d: &Design) {
+    for (what, p) in std::iter::once(("placed", &d.placed))
+        .chain(d.chosen.as_ref().map(|c| ("chosen", &c.prediction)))
+    {
+        for w in crate::design::predict::warning_texts(&d.parts.columns, p) {
+            let _ = writeln!(
+                out,
+                "<p class=\"flag\">warning ({what}): {}</p>",
+                escape(&w)
+            );
+        }
+    }
 }

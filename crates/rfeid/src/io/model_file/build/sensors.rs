@@ -20,6 +20,22 @@ pub(super) fn sensors(
     for (i, s) in raw.sensor.iter().enumerate() {
         let read = sensor(ctx, s, i, &mut names, bodies)?;
         if s.get_ref().candidate.as_ref().is_some_and(|c| *c.get_ref()) {
+            // Nothing measures a candidate, so nothing could identify a
+            // parameter in its gain or offset.
+            let raw = s.get_ref();
+            for (field, v, at) in [
+                ("gain", &read.gain, &raw.gain),
+                ("offset", &read.offset, &raw.offset),
+            ] {
+                if matches!(v, Value::Param(_)) {
+                    return Err(ctx.err(
+                        at.as_ref().map(|r| r.span()),
+                        &format!("sensor \"{}\"", read.name),
+                        field,
+                        "a candidate's gain and offset must be numbers: a candidate is not measured, so nothing identifies a parameter there",
+                    ));
+                }
+            }
             candidates.push(read);
         } else {
             sensors.push(read);
@@ -82,12 +98,12 @@ fn sensor(
     let noise = match &rs.noise {
         Some(n) => {
             let v = ctx.number(n, reading_dimension(kind), &entry, "noise")?;
-            if !(v.is_finite() && v > 0.0) {
+            if !(v.is_finite() && v > 0.0 && v.powi(-2).is_finite()) {
                 return Err(ctx.err(
                     Some(n.span()),
                     &entry,
                     "noise",
-                    "the noise's standard deviation must be positive and finite",
+                    "the noise's standard deviation must be positive and finite (and its 1/σ² too)",
                 ));
             }
             Some(v)
