@@ -199,7 +199,7 @@ pub fn print_design(model: &Model, d: &Design) {
         let mut eff = b.efficiency.clone();
         eff.sort_by(f64::total_cmp);
         println!(
-            "over the box ({} LP_τ points{}): chosen for the average log det; at the values alone: {}; {} of {} points would choose the same set; its D-efficiency against each point's own best: min {:.3}, median {:.3}",
+            "over the box ({} LP_τ points{}): chosen for the average log det; at the values alone: {}; {} of {} points would choose it or an equally good set on their own; its D-efficiency against each point's own best: min {:.3}, median {:.3}",
             b.points,
             if b.failed > 0 { format!(", {} failed and left out", b.failed) } else { String::new() },
             names(&b.at_values),
