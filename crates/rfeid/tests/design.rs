@@ -25,14 +25,21 @@ fn knee_column() -> Model {
 /// whole Jacobian, rows weighted by 1/σ_c (the identification's own
 /// path: QR of the stacked Jacobian, eq. 26–29 with s² = 1).
 fn exact_std_errors(model: &Model) -> Vec<f64> {
-    let x = model.nominal();
-    let sim = Simulator::choose(model, &x).unwrap();
+    let sim = Simulator::choose(model, &model.nominal()).unwrap();
     let measured = sim.response_buffer();
-    let mut problem = OutputError::new(sim, measured, 0);
-    let w: Vec<f64> = model
-        .sensors
+    bound_of(
+        OutputError::new(sim, measured, 0),
+        &[model],
+        &model.nominal(),
+    )
+}
+
+/// The Cramér–Rao standard errors of `problem` (zero data, one weight
+/// 1/σ² per sensor of `models` in turn) at the parameter values `x`.
+fn bound_of(mut problem: OutputError, models: &[&Model], x: &[f64]) -> Vec<f64> {
+    let w: Vec<f64> = models
         .iter()
-        .map(|s| s.noise.unwrap().powi(-2))
+        .flat_map(|m| m.sensors.iter().map(|s| s.noise.unwrap().powi(-2)))
         .collect();
     problem.set_weights(&w);
     let cols: Vec<f64> = problem.columns().iter().map(|c| x[c.parameter]).collect();
@@ -44,15 +51,15 @@ fn exact_std_errors(model: &Model) -> Vec<f64> {
         .residuals_jacobian(&mut problem.workspace(), &u, &mut r, &mut jac)
         .unwrap();
     let ssr = (n - cols.len() - 1) as f64; // s² = 1: σ is in the weights.
-    let b = cramer_rao_mapped(
+    cramer_rao_mapped(
         &jac,
         ssr,
         &problem.dx_du(&u),
         problem.widths(),
         &UncertaintySettings::default(),
     )
-    .unwrap();
-    b.std_errors
+    .unwrap()
+    .std_errors
 }
 
 #[test]
@@ -176,29 +183,8 @@ fn a_campaign_prediction_is_the_bound_of_its_stacked_jacobian() {
             }
         })
         .collect();
-    let mut problem = OutputError::campaign(parts);
-    let w: Vec<f64> = models
-        .iter()
-        .flat_map(|m| m.sensors.iter().map(|s| s.noise.unwrap().powi(-2)))
-        .collect();
-    problem.set_weights(&w);
-    let cols: Vec<f64> = problem.columns().iter().map(|c| x[c.parameter]).collect();
-    let u = problem.to_normalised(&cols);
-    let n = problem.n_residuals();
-    let mut jac = DMatrix::zeros(n, cols.len());
-    let mut r = vec![0.0; n];
-    problem
-        .residuals_jacobian(&mut problem.workspace(), &u, &mut r, &mut jac)
-        .unwrap();
-    let exact = cramer_rao_mapped(
-        &jac,
-        (n - cols.len() - 1) as f64,
-        &problem.dx_du(&u),
-        problem.widths(),
-        &UncertaintySettings::default(),
-    )
-    .unwrap()
-    .std_errors;
+    let refs: Vec<&Model> = models.iter().collect();
+    let exact = bound_of(OutputError::campaign(parts), &refs, &x);
     let d = design(&model, &DesignSettings::default(), &|| {}).unwrap();
     for (p, e) in d.placed.std_errors.iter().zip(&exact) {
         assert!((p / e - 1.0).abs() < 1e-6, "predicted {p:e}, exact {e:e}");

@@ -177,7 +177,6 @@ pub fn design(
     tick();
     let placed_f = parts.placed();
     let placed = predict(&parts, &placed_f, 0, &settings.uncertainty);
-    let r = parts.columns.len();
     let over_box = match (settings.choose, settings.over_box) {
         (Some(k), Some(n)) => Some(over_box::choose_over_box(
             model, &parts, k, n, settings, tick,
@@ -185,27 +184,22 @@ pub fn design(
         _ => None,
     };
     let chosen = settings.choose.map(|k| {
+        let cand = parts.candidates();
         let choice = match &over_box {
             Some(b) => b.robust.clone(),
             None => {
-                choose::choose(
-                    std::slice::from_ref(&placed_f),
-                    &[parts.candidates()],
-                    k,
-                    settings.force_greedy,
-                )
-                .chosen
+                let base = std::slice::from_ref(&placed_f);
+                choose::choose(base, std::slice::from_ref(&cand), k, settings.force_greedy).chosen
             }
         };
         chosen_set(
             model,
             &parts,
             &placed_f,
+            cand,
             choice,
-            k,
             over_box.as_ref(),
             settings,
-            r,
         )
     });
     let final_set = chosen.as_ref().map_or(&[][..], |c| c.chosen.as_slice());
@@ -219,19 +213,18 @@ pub fn design(
     })
 }
 
-/// The chosen set's prediction and certificate.
-#[allow(clippy::too_many_arguments)]
+/// The chosen set's prediction and certificate; `cand` holds every
+/// candidate's information.
 fn chosen_set(
     model: &Model,
     parts: &FisherParts,
     placed_f: &DMatrix<f64>,
+    cand: Vec<DMatrix<f64>>,
     chosen: Vec<usize>,
-    k: usize,
     over_box: Option<&over_box::BoxChoice>,
     settings: &DesignSettings,
-    r: usize,
 ) -> ChosenSet {
-    let cand = parts.candidates();
+    let (k, r) = (chosen.len(), parts.columns.len());
     let f = chosen.iter().fold(placed_f.clone(), |m, &i| m + &cand[i]);
     let prediction = predict(parts, &f, chosen.len(), &settings.uncertainty);
     let upper_bound = bound::upper_bound(std::slice::from_ref(placed_f), &[cand], k);
