@@ -1,5 +1,5 @@
 //! `rfeid demo`: the paper's numerical example (§4) in one command.
-use crate::cli::{DemoArgs, WeightsArg};
+use crate::cli::{DemoArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing, WrittenNote};
@@ -7,14 +7,14 @@ use crate::run::demo_case::{demo_data, demo_model, demo_title, reference_of};
 use crate::run::inputs::stepped;
 use crate::run::limits::check_limits;
 use crate::run::report::render;
-use crate::run::search::run_search;
+use crate::run::search::{options, run_search};
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 
 /// Runs the command.
 pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
-    check_limits(&args.search)?;
+    check_limits(&options(&args.search, StartArg::Plan))?;
     // The benchmark's boxes are narrow: no short-window start unless asked.
     args.search.window.get_or_insert(0.0);
     // The paper's equal weights (eq. 14) unless asked.

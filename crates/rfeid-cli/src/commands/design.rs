@@ -4,21 +4,19 @@
 use crate::cli::DesignArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
-use crate::run::design_text::{design_json, print_design};
+use crate::run::design_text::print_design;
 use crate::run::failures::simulation_failure;
 use crate::run::inputs::{apply_sets, load};
 use crate::run::limits::start_threads;
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design, DesignError, DesignSettings};
-
-/// Most points of `--over-box`.
-const MAX_OVER_BOX: usize = 4096;
 
 /// Runs the command.
 pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
-    let mut model = load(&args.model, ui)?;
+    let model = load(&args.model, ui)?;
     let mut plan = Plan::new();
     plan.input(&args.model);
     for f in &model.files {
@@ -32,20 +30,11 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     }
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
-    check_args(&args, &model)?;
+    let label = args.model.display().to_string();
+    check_request(&model, &label, args.choose, args.over_box).map_err(Failure::input_msg)?;
     let mut values = model.nominal();
     apply_sets(&model, &args.set, &mut values)?;
-    for (p, v) in model.parameters.iter().zip(&values) {
-        if let Some((lo, hi)) = p.bounds.filter(|(lo, hi)| !(lo..=hi).contains(&v)) {
-            return Err(Failure::input_msg(format!(
-                "--set {}: {v:e} lies outside its box [{lo:e}, {hi:e}] (SI): a design predicts inside the box; widen min and max in the model file to design there",
-                p.name
-            )));
-        }
-    }
-    for (p, v) in model.parameters.iter_mut().zip(values) {
-        p.value = v;
-    }
+    let model = at_values(model, values).map_err(Failure::input_msg)?;
     start_threads(args.threads)?;
     let settings = DesignSettings {
         choose: args.choose,
@@ -87,30 +76,6 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     }
     print_design(&model, &found);
     Ok(())
-}
-
-/// `--choose` and `--over-box` within their limits.
-fn check_args(args: &DesignArgs, model: &rfeid::model::Model) -> Result<(), Failure> {
-    if let Some(k) = args.choose {
-        if k == 0 {
-            return Err(Failure::input_msg("--choose 0: choose at least one sensor"));
-        }
-        if model.candidates.is_empty() {
-            return Err(Failure::input_msg(format!(
-                "--choose {k}: {} has no candidate sensors: mark the places a sensor could go with `candidate = true` in their [[sensor]] entries",
-                args.model.display()
-            )));
-        }
-    }
-    match (args.over_box, args.choose) {
-        (Some(_), None) => Err(Failure::input_msg(
-            "--over-box without --choose: the box design chooses sensors; give --choose K",
-        )),
-        (Some(n), _) if !(1..=MAX_OVER_BOX).contains(&n) => Err(Failure::input_msg(format!(
-            "--over-box {n}: must be 1 to {MAX_OVER_BOX} points"
-        ))),
-        _ => Ok(()),
-    }
 }
 
 /// A design's failure: bad input (a sensor without noise, K beyond the

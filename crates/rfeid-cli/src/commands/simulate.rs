@@ -3,33 +3,14 @@ use crate::cli::SimulateArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::experiments::experiment_model;
-use crate::run::failures::{noise_sensor, simulation_failure};
+use crate::run::failures::simulation_failure_of;
 use crate::run::inputs::{apply_sets, load, stepped};
 use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv_to;
-use rfeid::measurement::{add_filtered_noise, add_noise, check_noise, rms, to_timeseries};
+use rfeid::measurement::simulated::{check_noise_options, simulate_record, NoiseSpec, Simulated};
+use rfeid::measurement::{rms, to_timeseries};
 use rfeid::model::Model;
-use rfeid::simulation::{Simulator, Workspace};
-
-/// `--noise` a non-negative fraction, `--noise-corner` a positive frequency.
-fn check_noise_args(args: &SimulateArgs) -> Result<(), Failure> {
-    if let Some(f) = args.noise {
-        if !(f >= 0.0 && f.is_finite()) {
-            return Err(Failure::input_msg(format!(
-                "--noise {f}: must be a non-negative fraction"
-            )));
-        }
-    }
-    if let Some(c) = args.noise_corner {
-        if !(c > 0.0 && c.is_finite()) {
-            return Err(Failure::input_msg(format!(
-                "--noise-corner {c}: must be a positive frequency in Hz"
-            )));
-        }
-    }
-    Ok(())
-}
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
@@ -42,26 +23,18 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     json_conflict(ui, &outputs)?;
     let mut params = model.nominal();
     apply_sets(&model, &args.set, &mut params)?;
-    check_noise_args(&args)?;
-    let sim = Simulator::choose(&model, &params)
-        .map_err(|e| simulation_failure("choosing the integrator's steps", e))?;
+    let noise = args.noise.map(|fraction| NoiseSpec {
+        fraction,
+        corner: args.noise_corner,
+        seed: args.seed,
+    });
+    check_noise_options(args.noise, args.noise_corner).map_err(Failure::input_msg)?;
+    let Simulated {
+        sim,
+        response: out,
+        elapsed,
+    } = simulate_record(&model, &params, noise.as_ref()).map_err(simulation_failure_of)?;
     let steps = sim.steps();
-    let mut out = sim.response_buffer();
-    let start = std::time::Instant::now();
-    sim.run(&params, &mut Workspace::default(), &mut out)
-        .map_err(|e| simulation_failure("simulation failed", e))?;
-    let elapsed = start.elapsed();
-    if let Some(f) = args.noise {
-        check_noise(&out, f)
-            .map_err(|e| Failure::input_msg(format!("--noise: {}", noise_sensor(&model, e))))?;
-        match args.noise_corner {
-            Some(corner) => {
-                let rate = model.sampling.sample_rate;
-                add_filtered_noise(&mut out, f, corner, rate, args.seed)
-            }
-            None => add_noise(&mut out, f, args.seed),
-        }
-    }
     let series = to_timeseries(&model, &out);
     let mut csv = Vec::new();
     write_csv_to(&mut csv, &series).map_err(|e| Failure::failed(format!("CSV: {e}")))?;

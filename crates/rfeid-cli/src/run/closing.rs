@@ -141,8 +141,7 @@ pub fn suspect_status(result: &IdentificationResult, written: &str) -> Result<()
 
 /// RESULT.json's text.
 pub fn result_json(r: &IdentificationResult) -> Result<Vec<u8>, Failure> {
-    let mut text = serde_json::to_vec_pretty(r)
-        .map_err(|e| Failure::failed(format!("the result as JSON: {e}")))?;
-    text.push(b'\n');
-    Ok(text)
+    r.to_json_text()
+        .map(String::into_bytes)
+        .map_err(|e| Failure::failed(format!("the result as JSON: {e}")))
 }

@@ -2,101 +2,10 @@
 //! errors (placed, and chosen with `--choose`), the choice's certificate,
 //! the experiments' worth, and the JSON of SPEC §6.
 use crate::format::{sig, table};
+use rfeid::design::json::parameter;
 use rfeid::design::predict::{warning_texts, Prediction};
 use rfeid::design::Design;
-use rfeid::model::{ColumnName, Model, Parameter};
-use serde_json::{json, Value};
-
-/// The model parameter of decision variable `name` (`name[experiment]`).
-fn parameter<'m>(model: &'m Model, name: &str) -> &'m Parameter {
-    let Ok(c) = name.parse::<ColumnName>();
-    let i = model
-        .parameter_index(&c.name)
-        .expect("a design's columns are the model's parameters");
-    &model.parameters[i]
-}
-
-/// One prediction as JSON: log det, standard errors by parameter,
-/// correlations, condition number, warnings.
-fn prediction_json(model: &Model, d: &Design, p: &Prediction) -> Value {
-    let parameters: Vec<Value> = d
-        .parts
-        .columns
-        .iter()
-        .enumerate()
-        .map(|(j, name)| {
-            json!({
-                "name": name,
-                "unit": parameter(model, name).unit.symbol,
-                "value": d.parts.values[j],
-                "std_error": p.std_errors.get(j),
-                "relative_std_error": p.relative_std_errors.get(j),
-            })
-        })
-        .collect();
-    json!({
-        "log_det": p.log_det,
-        "observations": p.observations,
-        "parameters": parameters,
-        "correlation": p.correlation,
-        "condition_number": p.condition_number,
-        "warnings": warning_texts(&d.parts.columns, p),
-    })
-}
-
-/// The design as JSON (SPEC §6): the final design's `chosen`, `log_det`,
-/// `parameters`, `correlation` and `warnings` at the top, the placed
-/// sensors' prediction under `placed`, and the choice's certificate, the
-/// experiments' worth and the box design where there are any.
-pub fn design_json(model: &Model, d: &Design) -> Value {
-    let placed = prediction_json(model, d, &d.placed);
-    let mut top = match &d.chosen {
-        Some(c) => prediction_json(model, d, &c.prediction),
-        None => placed.clone(),
-    };
-    let obj = top.as_object_mut().expect("an object");
-    obj.insert(
-        "chosen".into(),
-        json!(d.chosen.as_ref().map_or(Vec::new(), |c| c.names.clone())),
-    );
-    obj.insert(
-        "placed_sensors".into(),
-        json!(model.sensors.iter().map(|s| &s.name).collect::<Vec<_>>()),
-    );
-    obj.insert("placed".into(), placed);
-    if let Some(c) = &d.chosen {
-        obj.insert(
-            "choice".into(),
-            json!({
-                "search": c.search,
-                "upper_bound_log_det": c.upper_bound,
-                "efficiency_at_least": c.efficiency_at_least,
-                "determinant_ratio_log": c.prediction.log_det - d.placed.log_det,
-            }),
-        );
-    }
-    obj.insert("experiments".into(), json!(d.experiments));
-    if let Some(b) = &d.over_box {
-        let names = |s: &[usize]| -> Vec<String> {
-            s.iter()
-                .map(|&i| model.candidates[i].name.clone())
-                .collect()
-        };
-        obj.insert(
-            "over_box".into(),
-            json!({
-                "points": b.points,
-                "failed": b.failed,
-                "first_failure": b.first_failure,
-                "robust": names(&b.robust),
-                "at_values": names(&b.at_values),
-                "points_agreeing": b.agree,
-                "efficiency": b.efficiency,
-            }),
-        );
-    }
-    top
-}
+use rfeid::model::Model;
 
 /// The table of predicted standard errors: placed, and chosen.
 fn parameter_table(model: &Model, d: &Design) -> String {

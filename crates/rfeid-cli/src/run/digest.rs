@@ -1,53 +1,33 @@
-//! Digests of input files: FNV-1a 64 over their bytes. A shard file's run
-//! hash is one ([`super::shard_file::run_hash`]); RESULT.json records one
-//! per input file ([`InputDigests`]), so that `report` and `validate` refuse
-//! files that changed since the result was computed.
+//! Digests of input files ([`rfeid::io::digest`]) as the commands use
+//! them. A shard file's run hash is one ([`super::shard_file::run_hash`]);
+//! RESULT.json records one per input file ([`InputDigests`]), so that
+//! `report` and `validate` refuse files that changed since the result was
+//! computed.
 use crate::diagnostics::Failure;
 use rfeid::identification::result::InputDigests;
+use rfeid::io::digest;
+pub use rfeid::io::digest::fnv1a;
 use rfeid::model::Model;
 use std::path::{Path, PathBuf};
 
-/// FNV-1a 64 of `parts`, each preceded by its length, in hex.
-pub fn fnv1a(parts: &[&[u8]]) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for part in parts {
-        for b in (part.len() as u64).to_le_bytes().iter().chain(part.iter()) {
-            h ^= *b as u64;
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-    format!("{h:016x}")
-}
-
 /// The bytes of `path`; an unreadable file is bad input naming it.
 pub fn read_bytes(path: &Path) -> Result<Vec<u8>, Failure> {
-    std::fs::read(path).map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))
+    digest::read_bytes(path).map_err(Failure::input_msg)
 }
 
 /// The digest of one file.
 fn file_digest(path: &Path) -> Result<String, Failure> {
-    Ok(fnv1a(&[&read_bytes(path)?]))
+    digest::file_digest(path).map_err(Failure::input_msg)
 }
 
-/// The digests of a run's inputs: the model file at `model_path`, the
-/// model's signal tables and the data files `data`.
+/// The digests of a run's inputs ([`digest::input_digests`]); an
+/// unreadable file is bad input naming it.
 pub fn input_digests(
     model_path: &Path,
     model: &Model,
     data: &[PathBuf],
 ) -> Result<InputDigests, Failure> {
-    Ok(InputDigests {
-        model: file_digest(model_path)?,
-        tables: model
-            .files
-            .iter()
-            .map(|f| file_digest(f))
-            .collect::<Result<_, _>>()?,
-        data: data
-            .iter()
-            .map(|f| file_digest(f))
-            .collect::<Result<_, _>>()?,
-    })
+    digest::input_digests(model_path, model, data).map_err(Failure::input_msg)
 }
 
 /// The first input that no longer holds what it held when the result was

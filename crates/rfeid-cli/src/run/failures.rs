@@ -2,6 +2,7 @@
 //! computation (exit 1).
 use crate::diagnostics::Failure;
 use rfeid::identification::pipeline::IdentifyError;
+use rfeid::measurement::simulated::SimulatedError;
 use rfeid::measurement::NoiseError;
 use rfeid::model::Model;
 use rfeid::simulation::SimulationError;
@@ -10,11 +11,26 @@ use rfeid::simulation::SimulationError;
 /// cannot take (from `--set`) are bad input (exit 2); a run that diverges is
 /// a failed computation (exit 1).
 pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
-    match e {
+    simulation_failure_kind(&e, &format!("{what}: {e}"))
+}
+
+/// A simulated record's failure ([`SimulatedError`]): a failed
+/// simulation as [`simulation_failure`] says, the rest bad input.
+pub fn simulation_failure_of(e: SimulatedError) -> Failure {
+    match &e {
+        SimulatedError::Steps(s) | SimulatedError::Run(s) => simulation_failure_kind(s, &e),
+        _ => Failure::input_msg(e),
+    }
+}
+
+/// [`simulation_failure`]'s choice of exit status for `cause`, with the
+/// message `e`.
+fn simulation_failure_kind(cause: &SimulationError, e: &dyn std::fmt::Display) -> Failure {
+    match cause {
         SimulationError::BadParameter { .. }
         | SimulationError::NonPositiveInertia { .. }
-        | SimulationError::BadExponent { .. } => Failure::input_msg(format!("{what}: {e}")),
-        _ => Failure::failed(format!("{what}: {e}")),
+        | SimulationError::BadExponent { .. } => Failure::input_msg(e),
+        _ => Failure::failed(e),
     }
 }
 

@@ -4,8 +4,9 @@ use super::estimate::simulate_at_estimate;
 use crate::diagnostics::Failure;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::model::Model;
+use rfeid::report::at_estimate::{self, RenderError};
 use rfeid::report::{report_files, ReportInput};
-use rfeid::simulation::{Response, Simulator, Workspace};
+use rfeid::simulation::Response;
 use std::path::Path;
 
 /// A report's files: (name, text).
@@ -78,7 +79,7 @@ pub fn render_campaign(
 
 /// Simulates at the estimate, as experiment `experiment` of a campaign
 /// sees it (`""` for a data file on its own), and renders the report's
-/// files (name, text).
+/// files ([`at_estimate::render`]).
 pub fn render(
     model: &Model,
     result: &IdentificationResult,
@@ -87,24 +88,13 @@ pub fn render(
     reference: Option<&[f64]>,
     title: &str,
 ) -> Result<ReportFiles, Failure> {
-    let params = result
-        .parameter_values(model, experiment)
-        .map_err(Failure::input_msg)?;
-    // The steps the identification ended with, as recorded.
-    let sim = match &result.simulation {
-        Some(steps) => {
-            Simulator::with_integrator(model, rfeid::simulation::steps::integrator(steps.substeps))
-        }
-        None => Simulator::new(model),
-    };
-    let mut fitted = sim.response_buffer();
-    sim.run(&params, &mut Workspace::default(), &mut fitted)
-        .map_err(|e| Failure::failed(format!("simulating at the estimate failed: {e}")))?;
-    render_fitted(model, result, measured, &fitted, reference, title)
+    at_estimate::render(model, result, experiment, measured, reference, title)
+        .map_err(render_failure)
 }
 
-/// Renders the report's files (name, text) of `result` with the model's
-/// response `fitted` at the estimate already simulated.
+/// Renders the report's files of `result` with the model's response
+/// `fitted` at the estimate already simulated
+/// ([`at_estimate::render_fitted`]).
 pub fn render_fitted(
     model: &Model,
     result: &IdentificationResult,
@@ -113,17 +103,15 @@ pub fn render_fitted(
     reference: Option<&[f64]>,
     title: &str,
 ) -> Result<ReportFiles, Failure> {
-    let time: Vec<f64> = (0..fitted.n_samples)
-        .map(|k| model.sampling.time(k))
-        .collect();
-    let input = ReportInput {
-        title: title.to_string(),
-        model,
-        result,
-        time: &time,
-        measured,
-        fitted,
-        reference,
-    };
-    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
+    at_estimate::render_fitted(model, result, measured, fitted, reference, title)
+        .map_err(render_failure)
+}
+
+/// A report not rendered: a failed simulation is a failed computation (1),
+/// inputs that do not belong together are bad input (2).
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::Simulation(_) => Failure::failed(e),
+        RenderError::Parameters(_) | RenderError::Report(_) => Failure::input_msg(e),
+    }
 }

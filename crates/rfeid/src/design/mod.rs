@@ -14,6 +14,7 @@ pub mod basis;
 pub mod bound;
 pub mod choose;
 pub mod fisher;
+pub mod json;
 pub mod over_box;
 pub mod predict;
 
@@ -53,7 +54,11 @@ pub enum DesignError {
         "the model identifies no parameter (none has min and max): there is nothing to design for"
     )]
     NoParameters,
-    /// A campaign without a fitted experiment.
+    /// The design was cancelled ([`DesignSettings::cancel`]).
+    #[error("the design was cancelled")]
+    Cancelled,
+    /// A campaign without a fitted experiment: every experiment is for
+    /// validation.
     #[error("every experiment is for validation: a design needs a fitted one")]
     NoFittedExperiment,
     /// An experiment leaves fewer than two samples after its `from`.
@@ -97,6 +102,9 @@ pub struct DesignSettings {
     pub force_greedy: bool,
     /// The identifiability thresholds, as `identify`'s.
     pub uncertainty: UncertaintySettings,
+    /// Set to stop a box design between its points
+    /// ([`DesignError::Cancelled`]).
+    pub cancel: crate::identification::cancel::Cancel,
 }
 
 /// The chosen set and its certificate.

@@ -75,11 +75,17 @@ pub fn choose_over_box(
     let results: Vec<Result<FisherParts, DesignError>> = (0..plan.len())
         .into_par_iter()
         .map(|p| {
+            if settings.cancel.is_set() {
+                return Err(DesignError::Cancelled);
+            }
             let parts = fisher_parts(model, &point_values(model, plan.point(p)));
             tick();
             parts
         })
         .collect();
+    if settings.cancel.is_set() {
+        return Err(DesignError::Cancelled);
+    }
     let failed = results.iter().filter(|r| r.is_err()).count();
     let first_failure = results
         .iter()

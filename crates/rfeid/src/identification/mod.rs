@@ -17,12 +17,14 @@
 pub mod bfgs;
 pub mod blocked_qr;
 pub mod box_map;
+pub mod cancel;
 pub mod chi_square;
 mod fd_gradient;
 mod line_search;
 pub mod lm;
 mod lm_step;
 pub mod noise;
+pub mod options;
 pub mod output_error;
 pub mod pipeline;
 pub mod plan;

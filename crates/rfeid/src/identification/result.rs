@@ -239,6 +239,14 @@ pub struct IdentificationResult {
 }
 
 impl IdentificationResult {
+    /// The result as RESULT.json holds it: pretty-printed JSON with a
+    /// final newline (numbers round-trip exactly).
+    pub fn to_json_text(&self) -> Result<String, serde_json::Error> {
+        let mut text = serde_json::to_string_pretty(self)?;
+        text.push('\n');
+        Ok(text)
+    }
+
     /// All of `model`'s parameter values (SI) at the estimate, as experiment
     /// `experiment` of a campaign sees them (`""` for a data file on its
     /// own): the model's values, with each estimate put in, a

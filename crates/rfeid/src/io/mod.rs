@@ -2,6 +2,7 @@
 //! data as CSV, MATLAB MAT-files or Universal File Format dataset 58.
 pub mod atomic;
 pub mod data_file;
+pub mod digest;
 pub mod mat;
 pub mod model_file;
 pub mod timeseries;

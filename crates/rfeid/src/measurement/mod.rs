@@ -1,6 +1,8 @@
 //! Measured signals: matching a data file to the model's sensors and
 //! sampling (eq. 10, 15), and adding seeded measurement noise.
 mod coloured;
+pub mod measured;
+pub mod simulated;
 pub mod spectrum;
 
 pub use coloured::add_filtered_noise;

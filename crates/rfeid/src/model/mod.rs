@@ -10,6 +10,7 @@ mod edit;
 mod experiment;
 pub mod geometry;
 mod record_ref;
+pub mod set_values;
 mod signal;
 
 pub use column_name::ColumnName;

@@ -25,6 +25,7 @@
 //! result (Cramér–Rao bounds under each sensor's noise model), which assume
 //! a correct model; the verdict tests that, and labels the standard errors
 //! as covering the noise only when it finds model error.
+pub mod at_estimate;
 mod axis;
 mod correlation;
 mod decimate;

@@ -149,6 +149,10 @@ pub enum SimulationError {
         /// The exponent.
         value: f64,
     },
+    /// The run it belonged to was cancelled
+    /// ([`crate::identification::cancel::Cancel`]); nothing was simulated.
+    #[error("cancelled")]
+    Cancelled,
     /// Newton's method for the static equilibrium under gravity failed.
     #[error("no static equilibrium under gravity: {reason}")]
     NoEquilibrium {

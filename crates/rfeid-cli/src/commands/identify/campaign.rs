@@ -10,7 +10,7 @@ use crate::run::experiments::{campaign_data, check_exists};
 use crate::run::failures::{identify_failure, simulation_failure};
 use crate::run::limits::start_threads;
 use crate::run::report::render_campaign;
-use crate::run::search::{search_settings, start_of};
+use crate::run::search::search_settings;
 use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
 use rfeid::identification::output_error::{ExperimentData, OutputError};
@@ -78,8 +78,7 @@ fn fit(
     ui: &Ui,
 ) -> Result<IdentificationResult, Failure> {
     start_threads(args.search.threads)?;
-    let (mut settings, progress) = search_settings(&args.search, ui)?;
-    settings.start = start_of(args.start);
+    let (settings, progress) = search_settings(&args.search, args.start, ui)?;
     let parts = model
         .fitted_experiments()
         .into_iter()

@@ -13,7 +13,7 @@ use crate::run::digest::input_digests;
 use crate::run::inputs::{fixed, load, load_data, stepped};
 use crate::run::limits::check_limits;
 use crate::run::report::render;
-use crate::run::search::{run_search_from, start_of};
+use crate::run::search::{options, run_search_from};
 use crate::run::shard_arg::parse_shard;
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
@@ -23,7 +23,7 @@ use std::path::Path;
 
 /// Runs the command.
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
-    check_limits(&args.search)?;
+    check_limits(&options(&args.search, args.start))?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if let Some((_, n)) = shard.filter(|&(_, n)| n > args.search.plan) {
         return Err(Failure::input_msg(format!(
@@ -66,12 +66,6 @@ fn check_combinations(args: &IdentifyArgs, sharded: bool) -> Result<(), Failure>
             "--set or --start values with --shard: shards share one run's model file; write the values into a copy of the model file instead",
         ));
     }
-    if args.start == StartArg::Values && args.search.starts != 1 {
-        return Err(Failure::input_msg(format!(
-            "--starts {} with --start values: the search starts once, from the values",
-            args.search.starts
-        )));
-    }
     Ok(())
 }
 
@@ -97,8 +91,7 @@ fn single(
     outputs: &Checked,
     ui: &Ui,
 ) -> Result<(), Failure> {
-    let start = start_of(args.start);
-    let mut result = run_search_from(model, measured.clone(), &args.search, start, ui)?;
+    let mut result = run_search_from(model, measured.clone(), &args.search, args.start, ui)?;
     result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
     result.source.data = Some(data.display().to_string());

@@ -21,6 +21,7 @@
 //! rows, so the residuals do not depend on the number of threads. A data file
 //! on its own is a campaign of one experiment.
 use super::box_map::BoxMap;
+use super::cancel::Cancel;
 use super::noise::ar::Whitener;
 use super::problem::LeastSquares;
 use super::tally::{Counter, Tally};
@@ -68,6 +69,9 @@ pub struct OutputError<'m> {
     n_res: usize,
     /// Every simulation run through this criterion (shared by its clones).
     counter: Counter,
+    /// Set to stop: every simulation after it fails with
+    /// [`SimulationError::Cancelled`] (shared by its clones).
+    cancel: Cancel,
 }
 
 /// Scratch memory of one evaluation.
@@ -155,6 +159,7 @@ impl<'m> OutputError<'m> {
             width,
             n_res: row0,
             counter: Counter::default(),
+            cancel: Cancel::new(),
         }
     }
 
@@ -171,9 +176,31 @@ impl<'m> OutputError<'m> {
     }
 
     /// Counts this criterion's simulations into `other`'s tally from now
-    /// on (a criterion on part of the record, say).
+    /// on (a criterion on part of the record, say), and stops when `other`
+    /// is cancelled.
     pub fn count_into(&mut self, other: &OutputError<'_>) {
         self.counter = other.counter.clone();
+        self.cancel = other.cancel.clone();
+    }
+
+    /// Stops this criterion (and its clones) when `cancel` is set: each
+    /// simulation asked for after that fails at once with
+    /// [`SimulationError::Cancelled`].
+    pub fn set_cancel(&mut self, cancel: Cancel) {
+        self.cancel = cancel;
+    }
+
+    /// The criterion's cancellation flag.
+    pub fn cancel(&self) -> &Cancel {
+        &self.cancel
+    }
+
+    /// [`SimulationError::Cancelled`] once the criterion is cancelled.
+    fn check_cancel(&self) -> Result<(), SimulationError> {
+        match self.cancel.is_set() {
+            true => Err(SimulationError::Cancelled),
+            false => Ok(()),
+        }
     }
 
     /// Counts the outcome of simulating every experiment once.
@@ -345,6 +372,7 @@ impl<'m> OutputError<'m> {
 
     /// Experiment `i`'s simulated response at u.
     fn simulate_part(&self, i: usize, u: &[f64]) -> Result<Response, SimulationError> {
+        self.check_cancel()?;
         let part = &self.parts[i];
         let mut ws = part.workspace(0);
         part.all_params(u, &self.maps, &mut ws.params);
@@ -416,6 +444,7 @@ impl OutputError<'_> {
             ) -> Result<(), SimulationError>
             + Sync,
     ) -> Result<(), SimulationError> {
+        self.check_cancel()?;
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
             let result = eval(part, pws, r, jac);
             self.count(std::slice::from_ref(&result), sensitivities);

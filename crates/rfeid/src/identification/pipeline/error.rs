@@ -50,6 +50,9 @@ pub enum IdentifyError {
     /// surfaced as an error, never a panic).
     #[error(transparent)]
     Settings(#[from] crate::identification::settings::SettingsError),
+    /// The run was cancelled ([`crate::identification::cancel::Cancel`]).
+    #[error("the identification was cancelled")]
+    Cancelled,
     /// Every local search failed to start; each start's reason, in order.
     #[error("all {} local searches failed: {}", .0.len(), describe_failures(.0))]
     AllStartsFailed(Vec<StartFailure>),

@@ -66,12 +66,15 @@ pub fn identify(
     )?;
     progress.plan_started(plan.len());
     let all: Vec<usize> = (0..plan.len()).collect();
-    let outcomes = evaluate_points(&problem, &plan, &all, progress)?;
+    let outcomes = evaluate_points(&problem, &plan, &all, progress);
+    if problem.cancel().is_set() {
+        return Err(IdentifyError::Cancelled);
+    }
     finish(
         problem,
         settings,
         &plan,
-        outcomes,
+        outcomes?,
         t_start.elapsed().as_secs_f64(),
         progress,
     )
@@ -81,8 +84,27 @@ pub fn identify(
 /// for `plan.point(k)`, from [`evaluate_points`], possibly in pieces):
 /// local searches from the best points, reweighting, restarts, the
 /// accuracy check, Cramér–Rao bounds and the verdict. `plan_seconds` is
-/// the wall time the plan took.
+/// the wall time the plan took. A run whose criterion was cancelled
+/// ([`OutputError::set_cancel`]) ends with [`IdentifyError::Cancelled`],
+/// whatever its stages made of the failed simulations.
 pub fn finish(
+    problem: OutputError<'_>,
+    settings: &Settings,
+    plan: &Plan,
+    outcomes: Vec<PointOutcome>,
+    plan_seconds: f64,
+    progress: &dyn Progress,
+) -> Result<IdentificationResult, IdentifyError> {
+    let cancel = problem.cancel().clone();
+    let result = finish_stages(problem, settings, plan, outcomes, plan_seconds, progress);
+    match cancel.is_set() {
+        true => Err(IdentifyError::Cancelled),
+        false => result,
+    }
+}
+
+/// The stages of [`finish`].
+fn finish_stages(
     mut problem: OutputError<'_>,
     settings: &Settings,
     plan: &Plan,

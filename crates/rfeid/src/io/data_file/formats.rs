@@ -3,7 +3,7 @@
 use super::time_axis::mat_time_axis;
 use super::DataFileError;
 use crate::io::mat::read_mat_vectors;
-use crate::io::timeseries::read_csv;
+use crate::io::timeseries::{read_csv, TimeSeries};
 use crate::io::uff::{read_uff58, Abscissa, UffRecord};
 use crate::model::Model;
 use crate::model::{DataSource, RecordRef};
@@ -27,7 +27,18 @@ pub struct Raw {
 /// CSV: the `time` column and the sensors' columns, in any order; columns
 /// no sensor reads (a force channel, say) are listed in a note.
 pub fn csv(path: &Path, model: &Model, sources: &[DataSource]) -> Result<Raw, DataFileError> {
-    let ts = read_csv(path)?;
+    table(path, &read_csv(path)?, model, sources)
+}
+
+/// A table already in memory (a CSV read, a data frame), `path` naming it
+/// in messages: the sensors' columns, by name, in any order; columns no
+/// sensor reads are listed in a note.
+pub fn table(
+    path: &Path,
+    ts: &TimeSeries,
+    model: &Model,
+    sources: &[DataSource],
+) -> Result<Raw, DataFileError> {
     let wanted: Vec<&str> = sources.iter().filter_map(DataSource::name).collect();
     let extra: Vec<&str> = ts
         .names

@@ -98,6 +98,26 @@ pub fn read_measurement(
     check(path, model, raw)
 }
 
+/// Reads the measured signals of `model`'s sensors from a table already in
+/// memory (a data frame, say) with the checks of [`read_measurement`]'s CSV
+/// files: `label` names the table in messages, its `time` is the axis, and
+/// `sources[i]` names sensor `i`'s column (a record number is refused).
+pub fn read_table(
+    label: &Path,
+    table: &TimeSeries,
+    model: &Model,
+    sources: &[DataSource],
+) -> Result<DataRead, DataFileError> {
+    if sources.len() != model.sensors.len() {
+        return Err(DataFileError::SourceCount {
+            path: label.into(),
+            sources: sources.len(),
+            sensors: model.sensors.len(),
+        });
+    }
+    check(label, model, formats::table(label, table, model, sources)?)
+}
+
 /// Largest |value| a measured signal may have (SI units). Squares of larger
 /// values, summed over a record, overflow the criterion (eq. 13); no real
 /// acceleration, velocity or displacement comes near it.

@@ -1,0 +1,390 @@
+//! An identification run as its users ask for it: the options of `rfeid
+//! identify` (SPEC §4) and of the Python module's `identify`, with their
+//! names, defaults and limits in one place, checked, and turned into the
+//! pipeline's [`Settings`] and criterion. The command line and the Python
+//! module both go through here, so the same options give the same run.
+use crate::identification::cancel::Cancel;
+use crate::identification::output_error::OutputError;
+use crate::identification::pipeline::{
+    IdentifyError, Method, NoiseModel, Settings, Start, Weighting, DEFAULT_RESTARTS,
+};
+use crate::measurement::constant_sensors;
+use crate::model::Model;
+use crate::simulation::{Response, SimulationError, Simulator};
+
+/// Most plan points `plan` may ask for: a plan of 10⁶ points of a
+/// 1000-parameter model holds 8 GB of coordinates, so larger plans are a
+/// mistake rather than a wish.
+pub const MAX_PLAN: usize = 1_000_000;
+/// Most local searches `starts` may ask for.
+pub const MAX_STARTS: usize = 1000;
+/// Most worker threads `threads` may ask for.
+pub const MAX_THREADS: usize = 1024;
+
+/// `weights` of `identify` when not given: each sensor weighted by its
+/// noise level, estimated from its residuals. With equal weights and sensors
+/// whose noise differs, eq. 26's single s² misstates the standard errors
+/// (measured on the wide-box cases of `examples/wide_boxes.rs`: 6 of 30
+/// cases had an estimate 3.2–3.4 standard errors from the truth at the
+/// truth's own minimum; estimated weights: 30 of 30 within 3).
+pub const DEFAULT_WEIGHTS: Weighting = Weighting::EstimatedNoise;
+
+/// `window` of `identify` when not given: each local search first fits
+/// the first 15 % of the record. Measured on wide boxes (README, "The
+/// verdict"): the 3-body lathe found the truth in 11 of 12 cases with it, 6
+/// of 12 without; the knee–column in 12 of 12 either way, 0.4 s slower.
+pub const DEFAULT_WINDOW: f64 = 0.15;
+
+/// The options of one identification, named as on the command line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchOptions {
+    /// Points of the LP_τ plan (eq. 18–19), 1 to [`MAX_PLAN`]; default 100.
+    pub plan: usize,
+    /// Local searches from the best plan points; default 1.
+    pub starts: usize,
+    /// The local search; default Levenberg–Marquardt.
+    pub method: Method,
+    /// Sensor weights; `None`: [`DEFAULT_WEIGHTS`].
+    pub weights: Option<Weighting>,
+    /// The noise model with estimated weights; default autoregressive.
+    pub noise_model: NoiseModel,
+    /// Worker threads; `None`: one per core. Results do not depend on it.
+    pub threads: Option<usize>,
+    /// The record before this time (s) is not fitted; default 0.
+    pub from: f64,
+    /// The fraction of the record each local search fits first, in [0, 1)
+    /// (0: off); `None`: [`DEFAULT_WINDOW`].
+    pub window: Option<f64>,
+    /// Where the local search starts; default the plan.
+    pub start: Start,
+}
+
+impl Default for SearchOptions {
+    fn default() -> Self {
+        SearchOptions {
+            plan: 100,
+            starts: 1,
+            method: Method::Lm,
+            weights: None,
+            noise_model: NoiseModel::default(),
+            threads: None,
+            from: 0.0,
+            window: None,
+            start: Start::Plan,
+        }
+    }
+}
+
+/// An option outside its range: the option's name and what is wrong with
+/// its value. Shown as the command line spells it (`--plan 0: must be …`);
+/// [`OptionError::keyword_text`] spells it as a keyword argument.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("--{option} {detail}")]
+pub struct OptionError {
+    /// The option (`plan`, `starts`, …).
+    pub option: &'static str,
+    /// Its value and what is wrong with it (`0: must be 1 to 1000000`).
+    pub detail: String,
+}
+
+impl OptionError {
+    fn new(option: &'static str, detail: String) -> Self {
+        OptionError { option, detail }
+    }
+
+    /// The message with the options as keyword arguments (`plan=0: must
+    /// be …`), see [`keyword_spelling`].
+    pub fn keyword_text(&self) -> String {
+        keyword_spelling(&self.to_string())
+    }
+}
+
+/// A message of the command line with its options spelt as the Python
+/// module's keyword arguments: a leading `--name VALUE` (a number) becomes
+/// `name=VALUE`, every other `--name` becomes `name`, dashes in names
+/// become underscores, and `from` (a Python keyword) becomes `from_`.
+pub fn keyword_spelling(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    let mut first = true;
+    while let Some(at) = rest.find("--") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 2..];
+        let len = after
+            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+            .unwrap_or(after.len());
+        let name = after[..len].replace('-', "_");
+        out.push_str(if name == "from" { "from_" } else { &name });
+        rest = &after[len..];
+        if first && at == 0 && rest.starts_with(' ') && is_value(&rest[1..]) {
+            out.push('=');
+            rest = &rest[1..];
+        }
+        first = false;
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Whether `text` starts with a number (what follows an option's name
+/// when it is the option's value).
+fn is_value(text: &str) -> bool {
+    text.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c))
+        || ["inf", "nan", "NaN"].iter().any(|w| text.starts_with(w))
+}
+
+impl SearchOptions {
+    /// Checks `plan`, `starts`, `threads`, `window` and that a search from
+    /// the values starts once, before anything is computed.
+    pub fn check(&self) -> Result<(), OptionError> {
+        if !(1..=MAX_PLAN).contains(&self.plan) {
+            let detail = format!("{}: must be 1 to {MAX_PLAN}", self.plan);
+            return Err(OptionError::new("plan", detail));
+        }
+        if !(1..=MAX_STARTS.min(self.plan)).contains(&self.starts) {
+            let detail = format!(
+                "{}: must be 1 to the plan size ({}) and at most {MAX_STARTS}",
+                self.starts, self.plan
+            );
+            return Err(OptionError::new("starts", detail));
+        }
+        if let Some(t) = self.threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
+            let detail = format!("{t}: must be 1 to {MAX_THREADS}");
+            return Err(OptionError::new("threads", detail));
+        }
+        if let Some(w) = self.window.filter(|w| !(0.0..1.0).contains(w)) {
+            let detail = format!("{w}: must lie in [0, 1) (0: off)");
+            return Err(OptionError::new("window", detail));
+        }
+        if self.start == Start::Values && self.starts != 1 {
+            let detail = format!(
+                "{} with --start values: the search starts once, from the values",
+                self.starts
+            );
+            return Err(OptionError::new("starts", detail));
+        }
+        Ok(())
+    }
+
+    /// The pipeline's settings (the options checked by [`Self::check`]).
+    pub fn settings(&self) -> Settings {
+        let window = self.window.unwrap_or(DEFAULT_WINDOW);
+        Settings {
+            plan_points: self.plan,
+            starts: self.starts,
+            method: self.method,
+            weighting: self.weights.unwrap_or(DEFAULT_WEIGHTS),
+            noise_model: self.noise_model,
+            window: Some(window).filter(|w| *w > 0.0),
+            restarts: DEFAULT_RESTARTS,
+            start: self.start,
+            ..Settings::default()
+        }
+    }
+
+    /// The first sample fitted for `from`, which must leave at least two.
+    pub fn first_sample(&self, model: &Model) -> Result<usize, OptionError> {
+        let (s, from) = (model.sampling, self.from);
+        if !(from >= 0.0 && from < s.duration) {
+            let detail = format!("{from}: must lie in [0, {}) s", s.duration);
+            return Err(OptionError::new("from", detail));
+        }
+        let first = s.first_sample(from);
+        if first + 2 > s.n_samples() {
+            let detail = format!(
+                "{from}: leaves {} of the record's {} samples to fit",
+                s.n_samples().saturating_sub(first),
+                s.n_samples()
+            );
+            return Err(OptionError::new("from", detail));
+        }
+        Ok(first)
+    }
+}
+
+/// Why a run could not be set up.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum PrepareError {
+    /// An option outside its range.
+    #[error(transparent)]
+    Option(#[from] OptionError),
+    /// The model has no identified parameters.
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
+    /// Every measured signal is constant over the fitted record.
+    #[error(
+        "every measured signal is constant from t = {from} s on ({}): constant data carry no \
+         information about the parameters",
+        sensors.join(", ")
+    )]
+    AllConstant {
+        /// `from`, s.
+        from: f64,
+        /// The sensors.
+        sensors: Vec<String>,
+    },
+    /// The integrator's steps could not be chosen at the nominal values.
+    #[error("choosing the integrator's steps at the nominal parameter values: {0}")]
+    Steps(SimulationError),
+}
+
+/// A run ready to start: the criterion, the pipeline's settings, and the
+/// sensors whose measured signal is constant (which carry no information;
+/// the caller warns about them).
+#[derive(Debug)]
+pub struct Prepared<'m> {
+    /// The criterion (eq. 13), stopped by the cancellation flag given.
+    pub problem: OutputError<'m>,
+    /// The pipeline's settings.
+    pub settings: Settings,
+    /// Sensors (indices) whose measured signal is constant from the first
+    /// fitted sample on.
+    pub constant: Vec<usize>,
+}
+
+impl Prepared<'_> {
+    /// The warning about the sensors whose measured signal is constant, if
+    /// any.
+    pub fn constant_warning(&self) -> Option<String> {
+        let model = self.problem.model();
+        let names: Vec<&str> = self
+            .constant
+            .iter()
+            .map(|&c| model.sensors[c].name.as_str())
+            .collect();
+        (!names.is_empty()).then(|| {
+            format!(
+                "these measured signals are constant and carry no information: {}",
+                names.join(", ")
+            )
+        })
+    }
+}
+
+/// Checks `options` against `model` and `measured` (on the model's
+/// sampling, [`crate::measurement::match_data`]) and builds the criterion
+/// with the steps chosen at the nominal values: the stage before
+/// [`crate::identification::pipeline::identify`].
+pub fn prepare<'m>(
+    model: &'m Model,
+    measured: Response,
+    options: &SearchOptions,
+    cancel: &Cancel,
+) -> Result<Prepared<'m>, PrepareError> {
+    options.check()?;
+    let first = options.first_sample(model)?;
+    if model.identified().is_empty() {
+        return Err(IdentifyError::NoParameters.into());
+    }
+    let constant = constant_sensors(&measured, first);
+    if constant.len() == measured.n_sensors {
+        return Err(PrepareError::AllConstant {
+            from: options.from,
+            sensors: constant
+                .iter()
+                .map(|&c| model.sensors[c].name.clone())
+                .collect(),
+        });
+    }
+    let sim = Simulator::choose(model, &model.nominal()).map_err(PrepareError::Steps)?;
+    let mut problem = OutputError::new(sim, measured, first);
+    problem.set_cancel(cancel.clone());
+    Ok(Prepared {
+        problem,
+        settings: options.settings(),
+        constant,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_the_command_lines() {
+        let s = SearchOptions::default().settings();
+        assert_eq!((s.plan_points, s.starts), (100, 1));
+        assert_eq!(s.weighting, Weighting::EstimatedNoise);
+        assert_eq!(s.window, Some(DEFAULT_WINDOW));
+        assert_eq!(s.restarts, DEFAULT_RESTARTS);
+        let off = SearchOptions {
+            window: Some(0.0),
+            ..SearchOptions::default()
+        };
+        assert_eq!(off.settings().window, None);
+    }
+
+    #[test]
+    fn options_outside_their_range_name_the_option() {
+        let bad = [
+            (
+                SearchOptions {
+                    plan: 0,
+                    ..Default::default()
+                },
+                "--plan 0: must be 1 to 1000000",
+            ),
+            (
+                SearchOptions {
+                    starts: 101,
+                    ..Default::default()
+                },
+                "--starts 101:",
+            ),
+            (
+                SearchOptions {
+                    threads: Some(0),
+                    ..Default::default()
+                },
+                "--threads 0:",
+            ),
+            (
+                SearchOptions {
+                    window: Some(1.0),
+                    ..Default::default()
+                },
+                "--window 1:",
+            ),
+            (
+                SearchOptions {
+                    start: Start::Values,
+                    starts: 2,
+                    ..Default::default()
+                },
+                "--starts 2 with --start values",
+            ),
+        ];
+        for (o, text) in bad {
+            let e = o.check().unwrap_err();
+            assert!(e.to_string().starts_with(text), "{e}");
+            assert!(!e.keyword_text().contains("--"), "{}", e.keyword_text());
+        }
+        assert!(SearchOptions::default().check().is_ok());
+    }
+
+    #[test]
+    fn messages_are_respelt_for_keywords() {
+        assert_eq!(
+            keyword_spelling("--plan 0: must be 1 to 9"),
+            "plan=0: must be 1 to 9"
+        );
+        assert_eq!(
+            keyword_spelling("--starts 2 with --start values: once"),
+            "starts=2 with start values: once"
+        );
+        assert_eq!(
+            keyword_spelling("--from 9: must lie in [0, 1) s"),
+            "from_=9: must lie in [0, 1) s"
+        );
+        assert_eq!(
+            keyword_spelling("--over-box without --choose: give --choose K"),
+            "over_box without choose: give choose K"
+        );
+        assert_eq!(keyword_spelling("no option here"), "no option here");
+        assert_eq!(keyword_spelling("--noise -1: must be"), "noise=-1: must be");
+        assert_eq!(
+            keyword_spelling("--set a_n1: not finite"),
+            "set a_n1: not finite"
+        );
+    }
+}

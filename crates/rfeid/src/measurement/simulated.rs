@@ -1,0 +1,123 @@
+//! A simulated record, as `rfeid simulate` and the Python module's
+//! `Model.simulate` make it: the steps chosen at the parameter values, one
+//! run, and seeded noise if asked for (white, or low-pass filtered as an
+//! anti-alias filter leaves it; SPEC §3).
+use super::{add_filtered_noise, add_noise, check_noise, NoiseError};
+use crate::model::Model;
+use crate::simulation::{Response, SimulationError, Simulator, Workspace};
+use std::time::{Duration, Instant};
+
+/// Noise added to a simulated record.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NoiseSpec {
+    /// σ as a fraction of each sensor's RMS (≥ 0).
+    pub fraction: f64,
+    /// The corner frequency (Hz) of the low-pass filter the noise passes,
+    /// if any; white noise otherwise.
+    pub corner: Option<f64>,
+    /// The generator's seed.
+    pub seed: u64,
+}
+
+/// Why a record could not be simulated.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SimulatedError {
+    /// A negative or non-finite noise fraction.
+    #[error("--noise {0}: must be a non-negative fraction")]
+    Fraction(f64),
+    /// A non-positive or non-finite corner frequency.
+    #[error("--noise-corner {0}: must be a positive frequency in Hz")]
+    Corner(f64),
+    /// The steps could not be chosen at these values.
+    #[error("choosing the integrator's steps: {0}")]
+    Steps(SimulationError),
+    /// The run failed.
+    #[error("simulation failed: {0}")]
+    Run(SimulationError),
+    /// The noise cannot be added to this record; `sensor` names the sensor
+    /// concerned, if one is.
+    #[error("--noise: {source}{}", sensor.as_ref().map(|s| format!(" ('{s}')")).unwrap_or_default())]
+    Noise {
+        /// What is wrong.
+        source: NoiseError,
+        /// The sensor's name.
+        sensor: Option<String>,
+    },
+}
+
+impl SimulatedError {
+    /// The simulation's own error, if the failure was the simulation's.
+    pub fn simulation(&self) -> Option<&SimulationError> {
+        match self {
+            SimulatedError::Steps(e) | SimulatedError::Run(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+/// A simulated record with the simulator that made it.
+#[derive(Debug)]
+pub struct Simulated<'m> {
+    /// The simulator, with the steps chosen.
+    pub sim: Simulator<'m>,
+    /// The response (with the noise, if asked for).
+    pub response: Response,
+    /// Wall time of the run alone.
+    pub elapsed: Duration,
+}
+
+/// Checks a noise fraction (non-negative) and a corner frequency
+/// (positive), each if given, before anything is simulated.
+pub fn check_noise_options(
+    fraction: Option<f64>,
+    corner: Option<f64>,
+) -> Result<(), SimulatedError> {
+    if let Some(f) = fraction.filter(|f| !(*f >= 0.0 && f.is_finite())) {
+        return Err(SimulatedError::Fraction(f));
+    }
+    if let Some(c) = corner.filter(|c| !(*c > 0.0 && c.is_finite())) {
+        return Err(SimulatedError::Corner(c));
+    }
+    Ok(())
+}
+
+/// Simulates `model` at `params` (SI, one per parameter), with `noise` added
+/// if given.
+pub fn simulate_record<'m>(
+    model: &'m Model,
+    params: &[f64],
+    noise: Option<&NoiseSpec>,
+) -> Result<Simulated<'m>, SimulatedError> {
+    if let Some(n) = noise {
+        check_noise_options(Some(n.fraction), n.corner)?;
+    }
+    let sim = Simulator::choose(model, params).map_err(SimulatedError::Steps)?;
+    let mut response = sim.response_buffer();
+    let start = Instant::now();
+    sim.run(params, &mut Workspace::default(), &mut response)
+        .map_err(SimulatedError::Run)?;
+    let elapsed = start.elapsed();
+    if let Some(n) = noise {
+        check_noise(&response, n.fraction).map_err(|source| {
+            let sensor = match &source {
+                NoiseError::Overflow { sensor, .. } | NoiseError::BelowRounding { sensor, .. } => {
+                    model.sensors.get(*sensor).map(|s| s.name.clone())
+                }
+                NoiseError::BadFraction { .. } => None,
+            };
+            SimulatedError::Noise { source, sensor }
+        })?;
+        match n.corner {
+            Some(corner) => {
+                let rate = model.sampling.sample_rate;
+                add_filtered_noise(&mut response, n.fraction, corner, rate, n.seed)
+            }
+            None => add_noise(&mut response, n.fraction, n.seed),
+        }
+    }
+    Ok(Simulated {
+        sim,
+        response,
+        elapsed,
+    })
+}

@@ -1,0 +1,132 @@
+//! Parameter values given for one run as `NAME=VALUE` (`--set` on the
+//! command line, `set={…}` in the Python module), and the integrator's
+//! `tolerance` / `substeps` given for one run. The value may carry a unit
+//! (`P0=20 daN`), which must have the parameter's dimension. Edits go
+//! through the validated [`Model::with_fixed`] and [`Model::with_steps`].
+use super::{EditError, Model};
+use crate::simulation::MAX_SUBSTEPS;
+use crate::units::parse_quantity;
+
+/// A `NAME=VALUE` setting or a step option refused; the message names the
+/// setting as given.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct SetError(String);
+
+impl SetError {
+    fn new(text: impl Into<String>) -> Self {
+        SetError(text.into())
+    }
+}
+
+/// One `NAME=VALUE`: the parameter's index and the value in SI.
+pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| SetError::new(format!("--set '{s}': expected NAME=VALUE")))?;
+    let name = name.trim();
+    let i = model.parameter_index(name).ok_or_else(|| {
+        let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
+        SetError::new(format!(
+            "--set: unknown parameter '{name}' (parameters: {})",
+            known.join(", ")
+        ))
+    })?;
+    let q = parse_quantity(value).map_err(|e| SetError::new(format!("--set {name}: {e}")))?;
+    let p = &model.parameters[i];
+    let bare = value.trim().parse::<f64>().is_ok();
+    if !bare && q.dim != p.dimension {
+        return Err(SetError::new(format!(
+            "--set {name}: '{value}' has the dimension {}, but {name} is {}",
+            q.dim, p.dimension
+        )));
+    }
+    if !q.value.is_finite() {
+        return Err(SetError::new(format!("--set {name}: not a finite number")));
+    }
+    Ok((i, q.value))
+}
+
+/// Applies `NAME=VALUE` settings to parameter values `params` (SI). A value
+/// outside the parameter's box is not refused; the warnings say which.
+pub fn apply_sets(
+    model: &Model,
+    sets: &[String],
+    params: &mut [f64],
+) -> Result<Vec<String>, SetError> {
+    let mut warnings = Vec::new();
+    for s in sets {
+        let (i, value) = parse_set(model, s)?;
+        let p = &model.parameters[i];
+        if let Some((lo, hi)) = p.bounds.filter(|&(lo, hi)| value < lo || value > hi) {
+            warnings.push(format!(
+                "--set {}: the value lies outside its box [{lo:e}, {hi:e}] (SI)",
+                p.name
+            ));
+        }
+        params[i] = value;
+    }
+    Ok(warnings)
+}
+
+/// The model with parameters fixed for one run (`identify --set
+/// NAME=VALUE`): each takes its value and loses its box, so it is not
+/// identified. A parameter given twice, or one an experiment of the model
+/// file sets itself, is refused.
+pub fn fixed(model: Model, sets: &[String]) -> Result<Model, SetError> {
+    let mut given: Vec<(usize, &str)> = Vec::new();
+    sets.iter().try_fold(model, |model, s| {
+        let (i, value) = parse_set(&model, s)?;
+        if let Some((_, earlier)) = given.iter().find(|(j, _)| *j == i) {
+            return Err(SetError::new(format!(
+                "--set '{s}': {} is already set by --set '{earlier}'; give each parameter once",
+                model.parameters[i].name
+            )));
+        }
+        given.push((i, s));
+        let setters: Vec<&str> = model
+            .experiments
+            .iter()
+            .filter(|x| x.set.iter().any(|(j, _)| *j == i))
+            .map(|x| x.name.as_str())
+            .collect();
+        if !setters.is_empty() {
+            // Each experiment's own `set` would win over it, silently.
+            return Err(SetError::new(format!(
+                "--set '{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
+                model.parameters[i].name,
+                if setters.len() == 1 { "" } else { "s" },
+                setters.join(", ")
+            )));
+        }
+        model.with_fixed(i, value).map_err(set_failure)
+    })
+}
+
+/// The model with `tolerance` and `substeps` applied to its sampling.
+pub fn stepped(
+    model: Model,
+    tolerance: Option<f64>,
+    substeps: Option<usize>,
+) -> Result<Model, SetError> {
+    model.with_steps(tolerance, substeps).map_err(|e| match e {
+        EditError::Tolerance(t) => SetError::new(format!(
+            "--tolerance {t:e}: {}",
+            crate::simulation::steps::tolerance_range_text()
+        )),
+        EditError::Substeps(s) => {
+            SetError::new(format!("--substeps {s}: must be 1 to {MAX_SUBSTEPS}"))
+        }
+        other => SetError::new(other.to_string()),
+    })
+}
+
+/// A refused `--set` edit, worded like [`parse_set`]'s own refusals.
+fn set_failure(e: EditError) -> SetError {
+    match e {
+        EditError::NotFinite { name, .. } => {
+            SetError::new(format!("--set {name}: not a finite number"))
+        }
+        other => SetError::new(format!("--set: {other}")),
+    }
+}

@@ -1,0 +1,210 @@
+//! `Model`: a model file loaded and validated by the library, its
+//! parameters and sensors, and its simulation.
+use super::data::f64_bytes;
+use super::errors::{model_error, simulation_error};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use rfeid::io::digest::file_digest;
+use rfeid::io::model_file::{load_model, parse_model};
+use rfeid::measurement::simulated::{simulate_record, NoiseSpec, SimulatedError};
+use rfeid::model::{set_values, Model};
+use std::path::PathBuf;
+
+/// A simulated record for Python: (time, values, n_samples, n_sensors,
+/// warnings), the arrays as little-endian f64 bytes, values sensor by sensor.
+type Record<'py> = (
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    usize,
+    usize,
+    Vec<String>,
+);
+
+/// A model file, loaded and validated.
+#[pyclass(name = "Model", module = "rfeid._rfeid", frozen)]
+pub struct PyModel {
+    /// The model.
+    pub model: Model,
+    /// The file it came from, if any.
+    pub path: Option<PathBuf>,
+    /// The digests of the file and of its signal tables when it was
+    /// loaded, which a result records ([`rfeid::io::digest`]).
+    pub digests: Option<(String, Vec<String>)>,
+}
+
+#[pymethods]
+impl PyModel {
+    /// Loads a model file (TOML, SPEC §1).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        let model = load_model(&path).map_err(model_error)?;
+        let tables = model.files.iter().map(|f| file_digest(f));
+        let digests = (
+            file_digest(&path).map_err(model_error)?,
+            tables.collect::<Result<_, _>>().map_err(model_error)?,
+        );
+        Ok(PyModel {
+            model,
+            path: Some(path),
+            digests: Some(digests),
+        })
+    }
+
+    /// A model from the text of a model file; relative paths in it (signal
+    /// tables) are found from `base_dir`.
+    #[staticmethod]
+    #[pyo3(signature = (text, base_dir = None))]
+    fn from_toml(text: &str, base_dir: Option<PathBuf>) -> PyResult<Self> {
+        let base = base_dir.unwrap_or_else(|| PathBuf::from("."));
+        let model = parse_model(text, &base.join("<text>")).map_err(model_error)?;
+        Ok(PyModel {
+            model,
+            path: None,
+            digests: None,
+        })
+    }
+
+    /// The file the model came from (`None` for a text).
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.path.clone()
+    }
+
+    /// What the reading noted (a table's time axis taken on the grid, say).
+    #[getter]
+    fn notes(&self) -> Vec<String> {
+        self.model.notes.clone()
+    }
+
+    /// The parameters, each a dict: name, value, min, max (SI; `None` for a
+    /// fixed one), unit, unit_scale, scale, dimension, identified,
+    /// per_experiment.
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.model
+            .parameters
+            .iter()
+            .map(|p| {
+                let d = PyDict::new(py);
+                d.set_item("name", &p.name)?;
+                d.set_item("value", p.value)?;
+                d.set_item("min", p.bounds.map(|b| b.0))?;
+                d.set_item("max", p.bounds.map(|b| b.1))?;
+                d.set_item("unit", &p.unit.symbol)?;
+                d.set_item("unit_scale", p.unit.scale)?;
+                d.set_item("scale", p.scale.as_str())?;
+                d.set_item("dimension", p.dimension.to_string())?;
+                d.set_item("identified", p.bounds.is_some())?;
+                d.set_item("per_experiment", p.per_experiment)?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// The sensors' names, in the model's order.
+    #[getter]
+    fn sensor_names(&self) -> Vec<String> {
+        self.model.sensors.iter().map(|s| s.name.clone()).collect()
+    }
+
+    /// The sensors' SI units, in the model's order.
+    #[getter]
+    fn sensor_units(&self) -> Vec<&'static str> {
+        self.model.sensors.iter().map(|s| s.kind.unit()).collect()
+    }
+
+    /// The sample rate, Hz.
+    #[getter]
+    fn sample_rate(&self) -> f64 {
+        self.model.sampling.sample_rate
+    }
+
+    /// The record's length, s.
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.model.sampling.duration
+    }
+
+    /// The record's samples.
+    #[getter]
+    fn n_samples(&self) -> usize {
+        self.model.sampling.n_samples()
+    }
+
+    /// The names of the `[[experiment]]` entries (a campaign), if any.
+    #[getter]
+    fn experiments(&self) -> Vec<String> {
+        self.model
+            .experiments
+            .iter()
+            .map(|e| e.name.clone())
+            .collect()
+    }
+
+    /// Simulates at the nominal values with `set` (`NAME=VALUE`) applied,
+    /// as `rfeid simulate` does: returns (time, values, n_samples,
+    /// n_sensors, warnings), the arrays as little-endian f64 bytes, values
+    /// sensor by sensor.
+    #[pyo3(signature = (set, noise, noise_corner, seed, tolerance, substeps))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        set: Vec<String>,
+        noise: Option<f64>,
+        noise_corner: Option<f64>,
+        seed: u64,
+        tolerance: Option<f64>,
+        substeps: Option<usize>,
+    ) -> PyResult<Record<'py>> {
+        let model =
+            set_values::stepped(self.model.clone(), tolerance, substeps).map_err(model_error)?;
+        let mut params = model.nominal();
+        let warnings = set_values::apply_sets(&model, &set, &mut params).map_err(model_error)?;
+        rfeid::measurement::simulated::check_noise_options(noise, noise_corner)
+            .map_err(super::errors::option_text)?;
+        let spec = noise.map(|fraction| NoiseSpec {
+            fraction,
+            corner: noise_corner,
+            seed,
+        });
+        let record = py
+            .detach(|| simulate_record(&model, &params, spec.as_ref()))
+            .map_err(|e| simulated_error(&e))?;
+        let n = record.response.n_samples;
+        let time: Vec<f64> = (0..n).map(|k| model.sampling.time(k)).collect();
+        Ok((
+            PyBytes::new(py, &f64_bytes(&time)),
+            PyBytes::new(py, &f64_bytes(&record.response.values)),
+            n,
+            record.response.n_sensors,
+            warnings,
+        ))
+    }
+
+    fn __repr__(&self) -> String {
+        let m = &self.model;
+        format!(
+            "<rfeid.Model {}: {} bodies, {} elements, {} parameters ({} identified), {} sensors, {} samples at {} Hz>",
+            self.path
+                .as_ref()
+                .map_or("(text)".to_string(), |p| p.display().to_string()),
+            m.bodies.len(),
+            m.elements.len(),
+            m.parameters.len(),
+            m.identified().len(),
+            m.sensors.len(),
+            m.sampling.n_samples(),
+            m.sampling.sample_rate
+        )
+    }
+}
+
+/// A simulated record's failure as an exception.
+fn simulated_error(e: &SimulatedError) -> PyErr {
+    match e {
+        SimulatedError::Steps(s) => simulation_error("choosing the integrator's steps", s),
+        SimulatedError::Run(s) => simulation_error("simulation failed", s),
+        _ => super::errors::option_text(e),
+    }
+}

@@ -1,0 +1,33 @@
+"""`rfeid.design` against `rfeid design -o`."""
+import json
+
+import pytest
+
+import rfeid
+from conftest import EXAMPLES
+
+
+def test_design_equals_the_command_lines_document(tmp_path, rfeid_cli, knee_column):
+    out = tmp_path / "design.json"
+    rfeid_cli("design", knee_column, "--choose", "3", "-o", out, "-q")
+    cli = json.loads(out.read_text())
+    d = rfeid.design(rfeid.Model.load(knee_column), choose=3)
+    assert d.document == cli
+    assert len(d.chosen) == 3 and d.efficiency_at_least <= 1.0
+    for name, se in d.std_errors.items():
+        assert se <= d.placed_std_errors[name] * (1 + 1e-12)
+    assert d.report(tmp_path / "r").endswith("report.html")
+    assert "chosen" in repr(d)
+
+
+def test_design_requests_are_checked(knee_column):
+    m = rfeid.Model.load(knee_column)
+    with pytest.raises(ValueError, match="choose at least one"):
+        rfeid.design(m, choose=0)
+    with pytest.raises(ValueError, match="over_box without choose"):
+        rfeid.design(m, over_box=4)
+    lathe = rfeid.Model.load(EXAMPLES / "lathe" / "model.toml")
+    with pytest.raises(rfeid.ModelError, match="no candidate sensors"):
+        rfeid.design(lathe, choose=2)
+    with pytest.raises(rfeid.ModelError, match="outside its box"):
+        rfeid.design(m, set={"a_n1": 1e20})

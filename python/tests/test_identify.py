@@ -1,0 +1,155 @@
+"""Identification through Python against `rfeid identify`'s RESULT.json (bit
+for bit),
+errors, the report, and Ctrl-C."""
+import json
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rfeid
+from conftest import EXAMPLES, read_csv_exact
+
+
+def close(a, b, rel=0.0):
+    """a and b equal to `rel` relative, by default bit for bit
+    (element-wise, NaN where both are)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    both_nan = np.isnan(a) & np.isnan(b)
+    diff = np.abs(a - b)
+    ok = both_nan | (diff <= rel * np.maximum(np.abs(b), 1e-300)) | (diff == 0)
+    return bool(np.all(ok))
+
+
+def measured(tmp_path, rfeid_cli, model, seed=1, noise="0.02"):
+    data = tmp_path / "data.csv"
+    rfeid_cli("simulate", model, "-o", data, "--noise", noise, "--seed", seed, "-q")
+    return data
+
+
+@pytest.mark.parametrize("example", ["knee-column", "lathe"])
+def test_identification_from_a_data_frame_equals_the_command_line(tmp_path, rfeid_cli, example):
+    model = EXAMPLES / example / "model.toml"
+    data = measured(tmp_path, rfeid_cli, model)
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", model, "--data", data, "-o", out, "-q")
+    cli = json.loads(out.read_text())
+    m = rfeid.Model.load(model)
+    frame = read_csv_exact(data)
+    res = rfeid.identify(m, frame)
+    assert res.parameter_names == [p["name"] for p in cli["parameters"]]
+    assert close([res.estimates[p["name"]] for p in cli["parameters"]], [p["estimate"] for p in cli["parameters"]])
+    assert close([res.std_errors[p["name"]] for p in cli["parameters"]], [p["std_error"] for p in cli["parameters"]])
+    assert close(res.correlation, [[np.nan if v is None else v for v in row] for row in cli["correlation"]])
+    assert close(res.document["criterion"], cli["criterion"])
+    assert res.verdict.trustworthy == cli["verdict"]["trustworthy"]
+    # From the file itself: the whole document, but for the wall times.
+    res = rfeid.identify(m, str(data))
+    doc = json.loads(res.to_json())
+    for d in (doc, cli):
+        d.pop("timings")
+    assert doc == cli
+
+
+def test_a_mapping_and_options_with_the_command_lines_names(tmp_path, rfeid_cli, knee_column):
+    data = measured(tmp_path, rfeid_cli, knee_column, seed=2)
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", knee_column, "--data", data, "-o", out, "-q", "--plan", "40", "--weights", "equal",
+              "--window", "0", "--set", "a_n4=6.6e15", "--threads", "1")
+    cli = json.loads(out.read_text())
+    frame = read_csv_exact(data)
+    mapping = {c: frame[c].to_numpy() for c in frame.columns}
+    res = rfeid.identify(rfeid.Model.load(knee_column), mapping, plan=40, weights="equal", window=0,
+                         set={"a_n4": 6.6e15}, threads=1)
+    assert "a_n4" not in res.estimates
+    assert close(list(res.estimates.values()), [p["estimate"] for p in cli["parameters"]])
+    assert res.document["source"]["set"] == ["a_n4=6600000000000000.0"]
+
+
+def test_data_lacking_a_sensor_names_the_column(tmp_path, rfeid_cli, knee_column):
+    frame = read_csv_exact(measured(tmp_path, rfeid_cli, knee_column))
+    with pytest.raises(rfeid.DataError) as e:
+        rfeid.identify(rfeid.Model.load(knee_column), frame.drop(columns=["knee_ay"]))
+    assert "knee_ay" in str(e.value)
+    with pytest.raises(rfeid.DataError, match="time"):
+        rfeid.identify(rfeid.Model.load(knee_column), frame.drop(columns=["time"]))
+    with pytest.raises(rfeid.DataError, match="rate"):
+        rfeid.identify(rfeid.Model.load(knee_column), frame.iloc[::2])
+    bad = frame.copy()
+    bad.loc[5, "knee_az"] = np.nan
+    with pytest.raises(rfeid.DataError, match="knee_az"):
+        rfeid.identify(rfeid.Model.load(knee_column), bad)
+    twice = pd.concat([frame, frame[["knee_ax"]]], axis=1)
+    with pytest.raises(rfeid.DataError, match="'knee_ax' appears twice"):
+        rfeid.identify(rfeid.Model.load(knee_column), twice)
+    text = frame.astype({"knee_ay": object})
+    text.loc[3, "knee_ay"] = "x"
+    with pytest.raises(rfeid.DataError, match="column 'knee_ay' is not numeric"):
+        rfeid.identify(rfeid.Model.load(knee_column), text)
+    with pytest.raises(rfeid.DataError, match="knee_az"):
+        rfeid.identify(rfeid.Model.load(knee_column), {"time": frame["time"], "knee_ax": frame["knee_ax"],
+                                                        "knee_ay": frame["knee_ay"], "knee_az": frame["knee_az"][:10]})
+
+
+def test_bad_options_are_value_errors(tmp_path, rfeid_cli, knee_column):
+    data = str(measured(tmp_path, rfeid_cli, knee_column))
+    m = rfeid.Model.load(knee_column)
+    for kwargs, text in [
+        ({"plan": 0}, "plan=0: must be 1 to 1000000"),
+        ({"starts": 5, "plan": 2}, "starts=5"),
+        ({"window": 1.5}, "window=1.5"),
+        ({"method": "newton"}, "method='newton': must be one of lm, bfgs"),
+        ({"from_": 1e9}, "from_=1000000000"),
+        ({"start": "values", "starts": 2}, "starts=2 with start values"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            rfeid.identify(m, data, **kwargs)
+        assert text in str(e.value)
+    with pytest.raises(rfeid.ModelError, match="unknown parameter"):
+        rfeid.identify(m, data, set={"x": 1})
+    with pytest.raises(rfeid.DataError, match="no-such.csv"):
+        rfeid.identify(m, str(tmp_path / "no-such.csv"))
+    with pytest.raises(TypeError):
+        rfeid.identify(m, 42)
+
+
+def test_a_campaign_is_refused_with_a_model_error():
+    m = rfeid.Model.load(EXAMPLES / "knee-column-campaign" / "model.toml")
+    with pytest.raises(rfeid.ModelError, match="campaign"):
+        rfeid.identify(m, {"time": [0.0, 1.0]})
+
+
+def test_report_repr_and_progress(tmp_path, rfeid_cli, knee_column, capsys):
+    data = str(measured(tmp_path, rfeid_cli, knee_column))
+    res = rfeid.identify(rfeid.Model.load(knee_column), data, plan=3000, progress=True)
+    assert "LP_τ plan" in capsys.readouterr().err
+    path = res.report(tmp_path / "report")
+    assert os.path.exists(path) and path.endswith("report.html")
+    assert any(f.endswith(".svg") for f in os.listdir(tmp_path / "report"))
+    assert "a_n1" in repr(res) and "verdict" in repr(res)
+    assert "<table>" in res._repr_html_()
+
+
+def test_ctrl_c_stops_an_identification_within_a_second(tmp_path, rfeid_cli, knee_column):
+    data = str(measured(tmp_path, rfeid_cli, knee_column))
+    m = rfeid.Model.load(knee_column)
+    sent = []
+
+    def interrupt():
+        time.sleep(0.5)
+        sent.append(time.monotonic())
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+
+    threading.Thread(target=interrupt, daemon=True).start()
+    with pytest.raises(KeyboardInterrupt):
+        rfeid.identify(m, data, plan=200_000)
+    stopped = time.monotonic()
+    assert sent, "the identification ended before the signal"
+    print(f"stopped {stopped - sent[0]:.3f} s after SIGINT")
+    assert stopped - sent[0] < 1.0
+    # The module still works afterwards.
+    assert rfeid.identify(m, data, plan=10).estimates
