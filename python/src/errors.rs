@@ -58,11 +58,9 @@ pub fn option_text(e: impl std::fmt::Display) -> PyErr {
 /// take are the model's fault, a diverging run a failed computation.
 pub fn simulation_error(what: &str, e: &SimulationError) -> PyErr {
     let text = format!("{what}: {e}");
-    match e {
-        SimulationError::BadParameter { .. }
-        | SimulationError::NonPositiveInertia { .. }
-        | SimulationError::BadExponent { .. } => ModelError::new_err(text),
-        _ => IdentificationError::new_err(text),
+    match e.is_bad_values() {
+        true => ModelError::new_err(text),
+        false => IdentificationError::new_err(text),
     }
 }
 

@@ -31,3 +31,23 @@ def test_design_requests_are_checked(knee_column):
         rfeid.design(lathe, choose=2)
     with pytest.raises(rfeid.ModelError, match="outside its box"):
         rfeid.design(m, set={"a_n1": 1e20})
+
+
+def test_ctrl_c_stops_a_box_design_within_a_second(knee_column):
+    import signal
+    import threading
+    import time
+
+    m = rfeid.Model.load(knee_column)
+    sent = []
+
+    def interrupt():
+        time.sleep(0.5)
+        sent.append(time.monotonic())
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+
+    threading.Thread(target=interrupt, daemon=True).start()
+    with pytest.raises(KeyboardInterrupt):
+        rfeid.design(m, choose=2, over_box=4096)
+    assert sent, "the design ended before the signal"
+    assert time.monotonic() - sent[0] < 1.0

@@ -26,11 +26,9 @@ pub fn simulation_failure_of(e: SimulatedError) -> Failure {
 /// [`simulation_failure`]'s choice of exit status for `cause`, with the
 /// message `e`.
 fn simulation_failure_kind(cause: &SimulationError, e: &dyn std::fmt::Display) -> Failure {
-    match cause {
-        SimulationError::BadParameter { .. }
-        | SimulationError::NonPositiveInertia { .. }
-        | SimulationError::BadExponent { .. } => Failure::input_msg(e),
-        _ => Failure::failed(e),
+    match cause.is_bad_values() {
+        true => Failure::input_msg(e),
+        false => Failure::failed(e),
     }
 }
 

@@ -160,3 +160,18 @@ pub enum SimulationError {
         reason: String,
     },
 }
+
+impl SimulationError {
+    /// Whether the failure comes from parameter values the model cannot
+    /// take (not finite, a non-positive mass, an exponent below 1): the
+    /// input's fault, where the other failures (divergence, no step
+    /// meeting the tolerance, no equilibrium) are the computation's.
+    pub fn is_bad_values(&self) -> bool {
+        matches!(
+            self,
+            SimulationError::BadParameter { .. }
+                | SimulationError::NonPositiveInertia { .. }
+                | SimulationError::BadExponent { .. }
+        )
+    }
+}

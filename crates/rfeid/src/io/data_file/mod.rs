@@ -74,13 +74,7 @@ pub fn read_measurement(
     model: &Model,
     sources: &[DataSource],
 ) -> Result<DataRead, DataFileError> {
-    if sources.len() != model.sensors.len() {
-        return Err(DataFileError::SourceCount {
-            path: path.into(),
-            sources: sources.len(),
-            sensors: model.sensors.len(),
-        });
-    }
+    one_source_per_sensor(path, model, sources)?;
     let raw = match DataFormat::of(path) {
         Some(DataFormat::Csv) => formats::csv(path, model, sources)?,
         Some(DataFormat::Mat) => formats::mat(path, model, sources)?,
@@ -108,14 +102,24 @@ pub fn read_table(
     model: &Model,
     sources: &[DataSource],
 ) -> Result<DataRead, DataFileError> {
-    if sources.len() != model.sensors.len() {
-        return Err(DataFileError::SourceCount {
-            path: label.into(),
+    one_source_per_sensor(label, model, sources)?;
+    check(label, model, formats::table(label, table, model, sources)?)
+}
+
+/// One source per sensor of `model` (a caller's mistake otherwise).
+fn one_source_per_sensor(
+    path: &Path,
+    model: &Model,
+    sources: &[DataSource],
+) -> Result<(), DataFileError> {
+    match sources.len() == model.sensors.len() {
+        true => Ok(()),
+        false => Err(DataFileError::SourceCount {
+            path: path.into(),
             sources: sources.len(),
             sensors: model.sensors.len(),
-        });
+        }),
     }
-    check(label, model, formats::table(label, table, model, sources)?)
 }
 
 /// Largest |value| a measured signal may have (SI units). Squares of larger
