@@ -48,3 +48,26 @@ def read_csv_exact(path):
         rows = list(csv.reader(f))
     header, body = rows[0], rows[1:]
     return pd.DataFrame({h: [float(r[i]) for r in body] for i, h in enumerate(header)})
+
+
+def seconds_to_stop(call, after=0.5):
+    """Sends SIGINT to the main thread `after` seconds into `call()` (from
+    another thread, as Ctrl-C would) and returns how long `call` took to
+    raise KeyboardInterrupt after the signal."""
+    import signal
+    import threading
+    import time
+
+    sent = []
+
+    def interrupt():
+        time.sleep(after)
+        sent.append(time.monotonic())
+        signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+
+    threading.Thread(target=interrupt, daemon=True).start()
+    with pytest.raises(KeyboardInterrupt):
+        call()
+    stopped = time.monotonic()
+    assert sent, "the call ended before the signal"
+    return stopped - sent[0]
