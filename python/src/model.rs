@@ -161,8 +161,6 @@ impl PyModel {
             set_values::stepped(self.model.clone(), tolerance, substeps).map_err(model_error)?;
         let mut params = model.nominal();
         let warnings = set_values::apply_sets(&model, &set, &mut params).map_err(model_error)?;
-        rfeid::measurement::simulated::check_noise_options(noise, noise_corner)
-            .map_err(super::errors::option_text)?;
         let spec = noise.map(|fraction| NoiseSpec {
             fraction,
             corner: noise_corner,

@@ -8,7 +8,7 @@ use crate::run::inputs::{apply_sets, load, stepped};
 use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
 use rfeid::io::timeseries::write_csv_to;
-use rfeid::measurement::simulated::{check_noise_options, simulate_record, NoiseSpec, Simulated};
+use rfeid::measurement::simulated::{simulate_record, NoiseSpec, Simulated};
 use rfeid::measurement::{rms, to_timeseries};
 use rfeid::model::Model;
 
@@ -28,7 +28,6 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         corner: args.noise_corner,
         seed: args.seed,
     });
-    check_noise_options(args.noise, args.noise_corner).map_err(Failure::input_msg)?;
     let Simulated {
         sim,
         response: out,

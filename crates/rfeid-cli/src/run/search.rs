@@ -91,8 +91,8 @@ pub fn prepare<'m>(
 }
 
 /// [`prepare`] for a search that starts at `start`: the library's
-/// [`options::prepare`], with the worker threads started and the notes
-/// shown.
+/// [`options::prepare`] (which checks the options), with the worker
+/// threads started and the notes shown.
 fn prepare_from<'m>(
     model: &'m Model,
     measured: Response,
@@ -101,7 +101,6 @@ fn prepare_from<'m>(
     ui: &Ui,
 ) -> Result<(OutputError<'m>, Settings, Bars), Failure> {
     let o = options(a, start);
-    check_limits(&o)?;
     start_threads(a.threads)?;
     let p = options::prepare(model, measured, &o, &Cancel::new()).map_err(prepare_failure)?;
     if let Some(w) = p.constant_warning() {

@@ -45,16 +45,6 @@ pub enum SimulatedError {
     },
 }
 
-impl SimulatedError {
-    /// The simulation's own error, if the failure was the simulation's.
-    pub fn simulation(&self) -> Option<&SimulationError> {
-        match self {
-            SimulatedError::Steps(e) | SimulatedError::Run(e) => Some(e),
-            _ => None,
-        }
-    }
-}
-
 /// A simulated record with the simulator that made it.
 #[derive(Debug)]
 pub struct Simulated<'m> {
@@ -66,19 +56,16 @@ pub struct Simulated<'m> {
     pub elapsed: Duration,
 }
 
-/// Checks a noise fraction (non-negative) and a corner frequency
-/// (positive), each if given, before anything is simulated.
-pub fn check_noise_options(
-    fraction: Option<f64>,
-    corner: Option<f64>,
-) -> Result<(), SimulatedError> {
-    if let Some(f) = fraction.filter(|f| !(*f >= 0.0 && f.is_finite())) {
-        return Err(SimulatedError::Fraction(f));
+/// Checks the noise's fraction (non-negative) and corner frequency
+/// (positive, if given) before anything is simulated.
+fn check_spec(n: &NoiseSpec) -> Result<(), SimulatedError> {
+    if !(n.fraction >= 0.0 && n.fraction.is_finite()) {
+        return Err(SimulatedError::Fraction(n.fraction));
     }
-    if let Some(c) = corner.filter(|c| !(*c > 0.0 && c.is_finite())) {
-        return Err(SimulatedError::Corner(c));
+    match n.corner.filter(|c| !(*c > 0.0 && c.is_finite())) {
+        Some(c) => Err(SimulatedError::Corner(c)),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// Simulates `model` at `params` (SI, one per parameter), with `noise` added
@@ -89,7 +76,7 @@ pub fn simulate_record<'m>(
     noise: Option<&NoiseSpec>,
 ) -> Result<Simulated<'m>, SimulatedError> {
     if let Some(n) = noise {
-        check_noise_options(Some(n.fraction), n.corner)?;
+        check_spec(n)?;
     }
     let sim = Simulator::choose(model, params).map_err(SimulatedError::Steps)?;
     let mut response = sim.response_buffer();
