@@ -1,7 +1,12 @@
 //! Excitation signals P(t) (SPEC §1): a sum of terms `A_j · shape_j(t)`, so
 //! that each amplitude A_j may be a parameter with a simple derivative.
+mod band_limited;
+
+pub use band_limited::{BandLimited, BandLimitedError};
+
 use super::Value;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// The time history of one term, with unit amplitude.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,13 +37,57 @@ pub enum Shape {
     /// 1 for `t ≥ 0` (a steady load: a force offset, a weight not modelled
     /// as gravity).
     Constant,
-    /// Samples linearly interpolated; 0 outside the table.
+    /// Samples interpolated between them (linearly, or as a band-limited
+    /// signal); 0 outside the table. Build it with [`Shape::linear_table`]
+    /// or [`Shape::band_limited_table`].
     Table {
         /// Strictly increasing instants, s.
         times: Vec<f64>,
         /// Values at those instants.
         values: Vec<f64>,
+        /// How the samples are interpolated.
+        interpolation: Interpolation,
     },
+}
+
+/// How a `table` signal's samples are interpolated (SPEC §1, the key
+/// `interpolation`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Interpolation {
+    /// Straight lines between samples (the default, `"linear"`): the steps
+    /// are split at every sample, where the slope jumps.
+    Linear,
+    /// The periodic band-limited (sinc) interpolant of evenly spaced samples
+    /// (`"band-limited"`): smooth, exact for a record of whole periods of a
+    /// signal without content at or above half the sample rate. Shared, as
+    /// it holds 4 values per sample.
+    BandLimited(Arc<BandLimited>),
+}
+
+impl Shape {
+    /// A table of samples, linearly interpolated; 0 outside.
+    pub fn linear_table(times: Vec<f64>, values: Vec<f64>) -> Shape {
+        Shape::Table {
+            times,
+            values,
+            interpolation: Interpolation::Linear,
+        }
+    }
+
+    /// A table of evenly spaced samples of a band-limited signal,
+    /// interpolated by [`BandLimited`]; 0 outside. An error when the
+    /// instants are not evenly spaced (or fewer than 2).
+    pub fn band_limited_table(
+        times: Vec<f64>,
+        values: Vec<f64>,
+    ) -> Result<Shape, BandLimitedError> {
+        let interpolant = BandLimited::new(&times, &values)?;
+        Ok(Shape::Table {
+            times,
+            values,
+            interpolation: Interpolation::BandLimited(Arc::new(interpolant)),
+        })
+    }
 }
 
 impl Shape {
@@ -61,7 +110,19 @@ impl Shape {
                 }
             }
             Shape::Constant => f64::from(u8::from(t >= 0.0)),
-            Shape::Table { times, values } => interpolate(times, values, t),
+            Shape::Table {
+                times,
+                values,
+                interpolation: Interpolation::Linear,
+            } => interpolate(times, values, t),
+            Shape::Table {
+                times,
+                interpolation: Interpolation::BandLimited(b),
+                ..
+            } => match (times.first(), times.last()) {
+                (Some(&first), Some(&last)) if (first..=last).contains(&t) => b.at(t),
+                _ => 0.0,
+            },
         }
     }
 
@@ -84,7 +145,11 @@ impl Shape {
                     false => 0.0,
                 }
             }
-            Shape::Table { times, values } => {
+            Shape::Table {
+                times,
+                values,
+                interpolation,
+            } => {
                 let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
                     return 0.0;
                 };
@@ -93,7 +158,7 @@ impl Shape {
                     false => (t >= first || near(t, first)) && t < last && !near(t, last),
                 };
                 match inside {
-                    true => interpolate(times, values, t.clamp(first, last)),
+                    true => table_value(times, values, interpolation, t.clamp(first, last)),
                     false => 0.0,
                 }
             }
@@ -109,15 +174,33 @@ impl Shape {
 
     /// The instants where the shape has a kink or a jump (or a higher
     /// derivative jumps): a step across one loses the method's order, so
-    /// steps are split there. Unsorted.
+    /// steps are split there. Unsorted. A linear table has one at every
+    /// sample; a band-limited one is smooth inside, and jumps only at its
+    /// ends.
     pub fn breakpoints(&self) -> Vec<f64> {
         match self {
             Shape::Sine { .. } => Vec::new(),
             Shape::Chirp { duration, .. } => vec![0.0, *duration],
             Shape::Impulse { t0, width } => vec![*t0, t0 + width],
             Shape::Constant => vec![0.0],
-            Shape::Table { times, .. } => times.clone(),
+            Shape::Table {
+                times,
+                interpolation: Interpolation::Linear,
+                ..
+            } => times.clone(),
+            Shape::Table { times, .. } => match (times.first(), times.last()) {
+                (Some(&first), Some(&last)) => vec![first, last],
+                _ => Vec::new(),
+            },
         }
+    }
+}
+
+/// A table's value at t inside its span.
+fn table_value(times: &[f64], values: &[f64], interpolation: &Interpolation, t: f64) -> f64 {
+    match interpolation {
+        Interpolation::Linear => interpolate(times, values, t),
+        Interpolation::BandLimited(b) => b.at(t),
     }
 }
 
@@ -205,10 +288,7 @@ mod tests {
 
     #[test]
     fn table_interpolates_linearly_and_is_zero_outside() {
-        let s = Shape::Table {
-            times: vec![0.0, 1.0, 3.0],
-            values: vec![0.0, 2.0, -2.0],
-        };
+        let s = Shape::linear_table(vec![0.0, 1.0, 3.0], vec![0.0, 2.0, -2.0]);
         assert_eq!(s.at(-0.1), 0.0);
         assert_eq!(s.at(0.5), 1.0);
         assert_eq!(s.at(1.0), 2.0);
@@ -261,16 +341,47 @@ mod tests {
         // An instant off by rounding counts as the jump.
         let off = 0.5 + f64::EPSILON;
         assert_eq!(c.at_side(off, true), c.at(0.5));
-        let t = Shape::Table {
-            times: vec![0.1, 0.2],
-            values: vec![3.0, 5.0],
-        };
+        let t = Shape::linear_table(vec![0.1, 0.2], vec![3.0, 5.0]);
         assert_eq!(t.at_side(0.1, true), 0.0);
         assert_eq!(t.at_side(0.1, false), 3.0);
         assert_eq!(t.at_side(0.2, true), 5.0);
         assert_eq!(t.at_side(0.2, false), 0.0);
         assert_eq!(t.at_side(0.15, true), t.at(0.15));
         assert_eq!(t.at_side(0.15, false), t.at(0.15));
+    }
+
+    #[test]
+    fn a_band_limited_table_is_smooth_inside_and_ends_like_a_linear_one() {
+        // Five whole periods of 5 Hz at 64 Hz: a periodic band-limited record.
+        let times: Vec<f64> = (0..64).map(|k| 0.1 + k as f64 / 64.0).collect();
+        let values: Vec<f64> = times
+            .iter()
+            .map(|t| 1.0 + (2.0 * PI * 5.0 * t).sin())
+            .collect();
+        let linear = Shape::linear_table(times.clone(), values.clone());
+        let s = Shape::band_limited_table(times.clone(), values.clone()).unwrap();
+        let (first, last) = (times[0], times[63]);
+        assert_eq!(s.breakpoints(), vec![first, last]);
+        assert_eq!(linear.breakpoints(), times);
+        for shape in [&s, &linear] {
+            assert_eq!(shape.at(first - 1e-9), 0.0);
+            assert_eq!(shape.at(last + 1e-9), 0.0);
+            assert_eq!(shape.at_side(first, true), 0.0);
+            assert_eq!(shape.at_side(last, false), 0.0);
+            assert!((shape.at_side(first, false) - values[0]).abs() <= 1e-12);
+            assert!((shape.at_side(last, true) - values[63]).abs() <= 1e-12);
+        }
+        // Between samples it follows the sine, not the chord.
+        let t = 0.1 + 10.5 / 64.0;
+        let exact = 1.0 + (2.0 * PI * 5.0 * t).sin();
+        assert!((s.at(t) - exact).abs() < 1e-12);
+        assert!((linear.at(t) - exact).abs() > 1e-4);
+        assert_eq!(s.at_side(t, true), s.at(t));
+        let uneven = Shape::band_limited_table(vec![0.0, 1.0, 3.0], vec![1.0; 3]);
+        assert!(matches!(
+            uneven,
+            Err(BandLimitedError::Uneven { index: 1, .. })
+        ));
     }
 
     #[test]

@@ -141,12 +141,12 @@ fn allowed_keys(kind: &str) -> &'static [&'static str] {
         "chirp" => &["amplitude", "f0", "f1", "duration"],
         "impulse" => &["amplitude", "t0", "width"],
         "constant" => &["amplitude"],
-        _ => &["amplitude", "file", "column", "variable"],
+        _ => &["amplitude", "file", "column", "variable", "interpolation"],
     }
 }
 
 /// Every key a signal can have, with its span when it is given.
-fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 12] {
+fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 13] {
     [
         ("amplitude", rs.amplitude.as_ref().map(|v| v.span())),
         ("frequency", rs.frequency.as_ref().map(|v| v.span())),
@@ -160,6 +160,7 @@ fn present_keys(rs: &RawSignal) -> [(&'static str, Option<Range<usize>>); 12] {
         ("file", rs.file.as_ref().map(|v| v.span())),
         ("column", rs.column.as_ref().map(|v| v.span())),
         ("variable", rs.variable.as_ref().map(|v| v.span())),
+        ("interpolation", rs.interpolation.as_ref().map(|v| v.span())),
     ]
 }
 

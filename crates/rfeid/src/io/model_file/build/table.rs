@@ -1,6 +1,6 @@
 //! Table signals: a column of a CSV file or a variable of a MAT-file (by
 //! the file's extension, as measured data), which must cover the simulated
-//! time.
+//! time, interpolated linearly or as a band-limited signal (SPEC §1).
 use super::ctx::*;
 use super::signal::Sig;
 use super::simulation::sampling;
@@ -24,9 +24,10 @@ struct Samples<'a> {
 }
 
 /// A `table` signal's one term: the file's column or variable, checked
-/// against the simulated time.
+/// against the simulated time, with its `interpolation`.
 pub(super) fn table(ctx: &mut Ctx, s: &Sig, raw: &RawFile) -> Result<Term> {
     let (rs, entry) = (s.raw(), s.entry);
+    let band_limited = band_limited_key(ctx, s)?;
     let file = required(ctx, &rs.file, s.sig.span(), entry, "signal.file")?;
     let path = ctx.dir.join(file.get_ref());
     ctx.files.borrow_mut().push(path.clone());
@@ -46,13 +47,45 @@ pub(super) fn table(ctx: &mut Ctx, s: &Sig, raw: &RawFile) -> Result<Term> {
         ));
     }
     let Samples {
-        mut times, values, ..
+        mut times,
+        values,
+        what,
+        ..
     } = read;
     snap_ends(&mut times, sampling);
+    let shape = match band_limited {
+        None => Shape::linear_table(times, values),
+        Some(key) => Shape::band_limited_table(times, values).map_err(|e| {
+            ctx.err(
+                Some(key.span()),
+                entry,
+                "signal.interpolation",
+                format!("{}: {what}: {e}", path.display()),
+            )
+        })?,
+    };
     Ok(Term {
         amplitude: s.amplitude(ctx, Some(1.0))?,
-        shape: Shape::Table { times, values },
+        shape,
     })
+}
+
+/// The key `interpolation` when it asks for `band-limited`; `None` for
+/// `linear`, the default. Any other name is an error listing both.
+fn band_limited_key<'a>(ctx: &Ctx, s: &'a Sig) -> Result<Option<&'a Spanned<String>>> {
+    let Some(key) = &s.raw().interpolation else {
+        return Ok(None);
+    };
+    match key.get_ref().trim() {
+        "linear" => Ok(None),
+        "band-limited" => Ok(Some(key)),
+        other => Err(ctx.err(
+            Some(key.span()),
+            s.entry,
+            "signal.interpolation",
+            format!("unknown interpolation '{other}' (linear or band-limited)"),
+        )),
+    }
 }
 
 /// The key that names the signal (`column` of a CSV file, `variable` of a
@@ -248,6 +281,107 @@ fn snap_ends(times: &mut [f64], sampling: Sampling) {
         }
         if times[n - 1] < end && times[n - 1] >= end - slack(end) && times[n - 2] < end {
             times[n - 1] = end;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::io::model_file::parse_model;
+    use crate::model::Model;
+
+    /// A unit mass on a spring driven by the table `force.csv` (t, push),
+    /// 10 samples at 100 Hz, its signal given `extra` keys; the error's text
+    /// if it fails.
+    fn model(name: &str, rows: &[(f64, f64)], extra: &str) -> Result<Model, String> {
+        let dir =
+            std::env::temp_dir().join(format!("rfeid-band-limited-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let csv: String = rows.iter().map(|(t, v)| format!("{t},{v}\n")).collect();
+        std::fs::write(dir.join("force.csv"), format!("time,push\n{csv}")).unwrap();
+        let text = format!(
+            r#"
+[simulation]
+duration = 0.1
+sample_rate = 100.0
+
+[[body]]
+name = "mass"
+mass = 1.0
+inertia = [1.0, 1.0, 1.0]
+com = [0.0, 0.0, 0.0]
+
+[[element]]
+name = "spring"
+body = "mass"
+to = "ground"
+at = [0.0, 0.0, 0.0]
+ux = {{ k = 1.0e4 }}
+
+[[excitation]]
+name = "shaker"
+body = "mass"
+at = [0.0, 0.0, 0.0]
+direction = [1, 0, 0]
+signal = {{ type = "table", file = "force.csv", column = "push"{extra} }}
+
+[[sensor]]
+name = "x"
+body = "mass"
+at = [0.0, 0.0, 0.0]
+direction = [1, 0, 0]
+quantity = "displacement"
+"#
+        );
+        let result = parse_model(&text, &dir.join("model.toml")).map_err(|e| e.to_string());
+        std::fs::remove_dir_all(&dir).unwrap();
+        result
+    }
+
+    fn even() -> Vec<(f64, f64)> {
+        (0..16)
+            .map(|k| (k as f64 / 100.0, (k as f64 * 0.7).sin()))
+            .collect()
+    }
+
+    #[test]
+    fn band_limited_is_read_and_linear_stays_the_default() {
+        let band = model("read", &even(), r#", interpolation = "band-limited""#).unwrap();
+        let shape = &band.excitations[0].signal.terms[0].shape;
+        assert_eq!(shape.breakpoints(), vec![0.0, 0.15]);
+        for extra in ["", r#", interpolation = "linear""#] {
+            let linear = model("linear", &even(), extra).unwrap();
+            assert_eq!(
+                linear.excitations[0].signal.terms[0]
+                    .shape
+                    .breakpoints()
+                    .len(),
+                16
+            );
+        }
+    }
+
+    #[test]
+    fn band_limited_errors_name_the_file_the_entry_and_the_field() {
+        let mut rows = even();
+        rows[5].0 = 0.052;
+        let uneven = model("uneven", &rows, r#", interpolation = "band-limited""#).unwrap_err();
+        for part in [
+            "model.toml",
+            "excitation \"shaker\"",
+            "signal.interpolation",
+            "force.csv",
+            "column 'push'",
+            "sample 5 is at t = 0.052 s",
+            "evenly spaced",
+        ] {
+            assert!(uneven.contains(part), "{part}: {uneven}");
+        }
+        // Unevenly spaced samples remain fine for linear interpolation.
+        assert!(model("uneven-linear", &rows, "").is_ok());
+        let unknown = model("unknown", &even(), r#", interpolation = "cubic""#).unwrap_err();
+        for part in ["signal.interpolation", "'cubic'", "linear or band-limited"] {
+            assert!(unknown.contains(part), "{part}: {unknown}");
         }
     }
 }
