@@ -3,9 +3,11 @@ use crate::cli::CheckArgs;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
 use crate::run::experiments::campaign_data;
+use crate::run::failures::simulation_failure;
 use crate::run::inputs::load;
 use crate::ui::Ui;
 use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
+use rfeid::simulation::{free::free_directions, steps::integrator, Simulator};
 
 /// Runs the command.
 pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
@@ -15,15 +17,40 @@ pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
     if !model.experiments.is_empty() {
         campaign_data(&model, &args.model, ui)?;
     }
+    let free = free_text(&model, &args.model)?;
     if ui.json {
-        return ui.print_json(&json_summary(&model));
+        let mut json = json_summary(&model);
+        json["free_directions"] = serde_json::json!(free);
+        return ui.print_json(&json);
     }
     print!("{}", summary(&model));
+    if !free.is_empty() {
+        println!("\nFree directions (no spring along them)");
+        for f in &free {
+            println!("  {f} (no restoring force)");
+        }
+    }
     if !model.experiments.is_empty() {
         println!("\ndata: every experiment's file read and matched to its sensors and sampling");
     }
     println!("\n{}: OK", args.model.display());
     Ok(())
+}
+
+/// The directions no spring restrains at the nominal values, in words
+/// (`carriage: free along x`); bad input (exit 2) if gravity pulls along
+/// one, since then no static equilibrium exists.
+fn free_text(model: &Model, path: &std::path::Path) -> Result<Vec<String>, Failure> {
+    let sim = Simulator::with_integrator(model, integrator(1));
+    let sys = sim
+        .system(&model.nominal())
+        .map_err(|e| simulation_failure("the model at its nominal values", e))?;
+    let free = free_directions(&sys);
+    if model.gravity.is_some() {
+        free.check_gravity(&sys)
+            .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+    }
+    Ok(free.descriptions(model))
 }
 
 /// The model's summary for `--json`.
@@ -148,6 +175,16 @@ fn elements_table(model: &Model) -> String {
                             format!("a={} m={} reference={reference} m", value(&a), value(&m))
                         }
                         Law::Power { a, m, .. } => format!("a={} m={}", value(&a), value(&m)),
+                        Law::Friction(fr) => friction_text(&fr, &value),
+                        Law::BoucWen(bw) => format!(
+                            "bouc-wen k={} alpha={} beta={} gamma={} d={} n={}",
+                            value(&bw.k),
+                            value(&bw.alpha),
+                            value(&bw.beta),
+                            value(&bw.gamma),
+                            value(&bw.d),
+                            value(&bw.n)
+                        ),
                     };
                     format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
                 })
@@ -161,6 +198,22 @@ fn elements_table(model: &Model) -> String {
         })
         .collect();
     table(&["element", "joins", "components"], &rows)
+}
+
+/// A friction law's keys, `friction f=… [f_neg=…] [fs=… vs=…] smoothing=… [k=…]`.
+fn friction_text(fr: &rfeid::model::Friction, value: &dyn Fn(&Value) -> String) -> String {
+    let mut s = format!("friction f={}", value(&fr.f));
+    if let Some(f_neg) = &fr.f_neg {
+        s += &format!(" f_neg={}", value(f_neg));
+    }
+    if let Some((fs, vs)) = &fr.stribeck {
+        s += &format!(" fs={} vs={}", value(fs), value(vs));
+    }
+    s += &format!(" smoothing={}", value(&fr.smoothing));
+    if fr.k != Value::Fixed(0.0) {
+        s += &format!(" k={}", value(&fr.k));
+    }
+    s
 }
 
 /// Sensors of the model: what they read, where, along what, and the

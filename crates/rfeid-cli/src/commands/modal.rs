@@ -75,7 +75,9 @@ fn print_modes(modal: &ModalAnalysis) {
         .map(|(i, m)| {
             vec![
                 format!("{}", i + 1),
-                if m.zero_stiffness {
+                if m.free.is_some() {
+                    "0 (free)".into()
+                } else if m.zero_stiffness {
                     "0 (zero stiffness)".into()
                 } else {
                     sig(m.frequency_hz, 5)
@@ -94,7 +96,30 @@ fn print_modes(modal: &ModalAnalysis) {
         );
         println!("      their stiffness grows with deformation, so the frequencies under load are higher.");
     }
-    if modal.modes.iter().any(|m| m.zero_stiffness) {
+    let free: Vec<String> = modal
+        .modes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| m.free.as_ref().map(|d| format!("mode {}: {d}", i + 1)))
+        .collect();
+    if !free.is_empty() {
+        println!(
+            "note: free modes are rigid-body motions along directions no spring restrains (no restoring force; dampers and friction only slow them):"
+        );
+        for f in &free {
+            println!("      {f}");
+        }
+    } else if !modal.free_directions.is_empty() {
+        println!(
+            "note: free directions (no spring restrains them): {}",
+            modal.free_directions.join("; ")
+        );
+    }
+    if modal
+        .modes
+        .iter()
+        .any(|m| m.zero_stiffness && m.free.is_none())
+    {
         println!("note: zero-stiffness modes are rigid-body motions that no linear spring restrains at this point.");
     }
     println!("damping ratios are modal projections φᵀCφ/(2ω): exact for proportional damping, approximate otherwise.");

@@ -98,6 +98,53 @@ pub enum Law {
         /// proportional in effect (∂f/∂m = f · ln(|δ|/δ_ref)).
         reference: f64,
     },
+    /// Friction, a force of the component's velocity v = δ̇ (SPEC §1):
+    /// `F(v) · tanh(v / v_s)` plus an optional parallel spring `k δ`.
+    Friction(Friction),
+    /// Bouc–Wen hysteresis (SPEC §1): `k δ + z`, with the component's
+    /// internal state z integrated with the motion.
+    BoucWen(BoucWen),
+}
+
+/// The Bouc–Wen law of one component (SPEC §1): the force `k δ + z`, with
+/// `ż = α v − β (γ |v| |z|^(n−1) z + d v |z|^n)`, z(0) = 0, v = δ̇.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoucWen {
+    /// The elastic stiffness k (N/m or N·m/rad); 0 when absent.
+    pub k: Value,
+    /// α (N/m or N·m/rad): ż = α v for z = 0.
+    pub alpha: Value,
+    /// β, the scale of the hysteretic terms.
+    pub beta: Value,
+    /// γ, the term in |v|.
+    pub gamma: Value,
+    /// d (the benchmark's δ), the term in v.
+    pub d: Value,
+    /// The exponent n ≥ 1 (default 1).
+    pub n: Value,
+}
+
+/// The friction law of one component (SPEC §1): the Coulomb force F
+/// smoothed by `tanh(v / v_s)`, asymmetric with `f_neg`, with Stribeck's
+/// peak `F(v) = F₀(v) + (f_s − F₀(v)) exp(−(v/v_s')²)`, and a parallel
+/// spring k. The component's `c` adds viscous friction.
+///
+/// An asymmetric Coulomb force switches smoothly with the same sign
+/// function, `F₀(v) = ½(f + f_neg) + ½(f − f_neg) tanh(v / v_s)`: f for
+/// v ≫ v_s, f_neg for v ≪ −v_s, and the force stays smooth in v (a step
+/// across v = 0 keeps the integrator's order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Friction {
+    /// Parallel stiffness k (N/m or N·m/rad); 0 when absent.
+    pub k: Value,
+    /// Coulomb force f for v > 0 (N, or N·m for a rotation).
+    pub f: Value,
+    /// Coulomb force for v < 0; f when absent (symmetric friction).
+    pub f_neg: Option<Value>,
+    /// Stribeck: the static (break-away) force f_s and its velocity v_s'.
+    pub stribeck: Option<(Value, Value)>,
+    /// The smoothing velocity v_s of the sign (m/s or rad/s).
+    pub smoothing: Value,
 }
 
 impl Law {

@@ -5,6 +5,9 @@ use super::html::table;
 use super::svg::escape;
 use crate::identification::result::IdentificationResult;
 use crate::model::{Attachment, Law, Model, SensorKind, Value, COMPONENT_NAMES};
+use crate::simulation::free::free_directions;
+use crate::simulation::steps::integrator;
+use crate::simulation::Simulator;
 use nalgebra::Vector3;
 use std::fmt::Write;
 
@@ -67,6 +70,17 @@ fn components(model: &Model, e: &crate::model::Element) -> String {
                     value(model, &a, ""),
                     value(model, &m, "")
                 ),
+                Law::Friction(fr) => friction_text(model, &fr, rot),
+                Law::BoucWen(bw) => format!(
+                    "Bouc–Wen k δ + z, ż = α v − β(γ|v||z|<sup>n−1</sup>z + d v|z|<sup>n</sup>), \
+                     k = {}, α = {}, β = {}, γ = {}, d = {}, n = {}",
+                    value(model, &bw.k, k_unit),
+                    value(model, &bw.alpha, k_unit),
+                    value(model, &bw.beta, ""),
+                    value(model, &bw.gamma, ""),
+                    value(model, &bw.d, ""),
+                    value(model, &bw.n, "")
+                ),
             };
             format!(
                 "<b>{name}</b>: {law}; c = {}",
@@ -75,6 +89,35 @@ fn components(model: &Model, e: &crate::model::Element) -> String {
         })
         .collect::<Vec<_>>()
         .join("<br>")
+}
+
+/// A friction law in words: `friction F(v)·tanh(v/v_s), f = …` with its
+/// optional keys.
+fn friction_text(model: &Model, fr: &crate::model::Friction, rot: bool) -> String {
+    let (f_unit, v_unit, k_unit) = match rot {
+        true => ("N*m", "rad/s", "N*m/rad"),
+        false => ("N", "m/s", "N/m"),
+    };
+    let mut s = format!(
+        "friction F(v)·tanh(v/v<sub>s</sub>), f = {}",
+        value(model, &fr.f, f_unit)
+    );
+    if let Some(f_neg) = &fr.f_neg {
+        let _ = write!(s, ", f<sub>neg</sub> = {}", value(model, f_neg, f_unit));
+    }
+    if let Some((fs, vs)) = &fr.stribeck {
+        let (fs, vs) = (value(model, fs, f_unit), value(model, vs, v_unit));
+        let _ = write!(s, ", Stribeck f<sub>s</sub> = {fs}, v<sub>s</sub>' = {vs}");
+    }
+    let _ = write!(
+        s,
+        ", v<sub>s</sub> = {}",
+        value(model, &fr.smoothing, v_unit)
+    );
+    if fr.k != crate::model::Value::Fixed(0.0) {
+        let _ = write!(s, ", k = {}", value(model, &fr.k, k_unit));
+    }
+    s
 }
 
 fn kind(k: SensorKind) -> &'static str {
@@ -89,6 +132,7 @@ fn kind(k: SensorKind) -> &'static str {
 pub(crate) fn model_summary(model: &Model, result: &IdentificationResult) -> String {
     let mut out = String::new();
     overview(&mut out, model);
+    free_note(&mut out, model);
     bodies_table(&mut out, model);
     elements_table(&mut out, model);
     excitations_table(&mut out, model);
@@ -121,6 +165,26 @@ fn overview(out: &mut String, model: &Model) {
             .map(|g| format!("; gravity {} m/s², from static equilibrium", vector(&g)))
             .unwrap_or_default()
     );
+}
+
+/// The directions no spring restrains at the nominal values
+/// ([`crate::simulation::free`]), if any: rigid-body motions with no
+/// restoring force, such as a feed axis driven through a damper.
+fn free_note(out: &mut String, model: &Model) {
+    let sim = Simulator::with_integrator(model, integrator(1));
+    let Ok(sys) = sim.system(&model.nominal()) else {
+        return;
+    };
+    let free = free_directions(&sys).descriptions(model);
+    if !free.is_empty() {
+        let list: Vec<String> = free.iter().map(|f| escape(f)).collect();
+        let _ = writeln!(
+            out,
+            "<p>Free directions (no spring along them, so no restoring force; a \
+             zero-frequency mode each): {}.</p>",
+            list.join("; ")
+        );
+    }
 }
 
 /// The bodies: mass, moments of inertia and centre of mass.

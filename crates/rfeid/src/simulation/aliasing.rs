@@ -92,7 +92,8 @@ pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
     let model = sim.model();
     let nyquist = model.sampling.sample_rate / 2.0;
     let mut warnings = Vec::new();
-    // Modes above the Nyquist frequency at rest: (how many, of how many, fastest).
+    // Modes above the Nyquist frequency at rest: (how many, of how many
+    // restrained ones, fastest, how many free ones at zero frequency).
     let at_rest = modal_analysis(sim, params).ok().map(|modal| {
         let above: Vec<f64> = modal
             .modes
@@ -101,10 +102,18 @@ pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
             .filter(|f| *f > nyquist)
             .collect();
         let fastest = above.iter().cloned().fold(0.0, f64::max);
-        (above.len(), modal.modes.len(), fastest)
+        let free = modal.modes.iter().filter(|m| m.free.is_some()).count();
+        (above.len(), modal.modes.len() - free, fastest, free)
     });
-    let rest_text = |(above, of, fastest): (usize, usize, f64)| {
-        format!("modes above it when linearised at rest: {above} of {of}, the fastest at {fastest:.1} Hz")
+    let rest_text = |(above, of, fastest, free): (usize, usize, f64, usize)| {
+        let aside = match free {
+            0 => String::new(),
+            f => format!(" (besides {f} free, rigid-body mode(s) at 0 Hz)"),
+        };
+        format!(
+            "modes above it when linearised at rest: {above} of {of}{aside}, the fastest at \
+             {fastest:.1} Hz"
+        )
     };
     let along = fastest_along_response(sim, params)
         .filter(|m| m.frequency_hz > nyquist)

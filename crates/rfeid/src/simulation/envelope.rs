@@ -168,6 +168,75 @@ impl<'o> EnvelopeCholesky<'o> {
     }
 }
 
+// long-fn: numerical kernel (envelope LDLᵀ with zero-pivot detection)
+/// A basis of the null space of the symmetric positive semidefinite
+/// row-major `n × n` matrix `a` (pattern as `ordering`), by the zero-pivot
+/// method of finite-element codes for rigid-body modes (Farhat & Géradin
+/// 1998): in `P A Pᵀ = L D Lᵀ`, a pivot `D_ii ≤ tol · A_ii` marks coordinate
+/// i as dependent; its column of L is dropped (in a semidefinite matrix the
+/// rest of that column of the Schur complement vanishes with its pivot),
+/// and each marked i gives the null vector v with `Lᵀ v = e_i`, since then
+/// `A v = L D e_i = 0`. The vectors are independent (v_j = δ_ij on the
+/// marked coordinates) but not orthogonal. `None` if a pivot is negative
+/// beyond rounding (the matrix is not semidefinite).
+pub(crate) fn null_space(ordering: &Ordering, a: &[f64], tol: f64) -> Option<Vec<Vec<f64>>> {
+    let (perm, first) = (&ordering.perm, &ordering.first);
+    let n = perm.len();
+    let mut start = Vec::with_capacity(n + 1);
+    start.push(0);
+    for i in 0..n {
+        start.push(start[i] + i + 1 - first[i]);
+    }
+    // Row i holds L[i][first_i .. i] and D_i in place of the unit diagonal.
+    let mut values = vec![0.0; start[n]];
+    let mut dropped = vec![false; n];
+    for i in 0..n {
+        let (fi, si) = (first[i], start[i]);
+        for j in fi..=i {
+            let (r, c) = (perm[i].max(perm[j]), perm[i].min(perm[j]));
+            let mut s = a[r * n + c];
+            let fj = first[j];
+            for k in fi.max(fj)..j {
+                let (lik, ljk) = (values[si + k - fi], values[start[j] + k - fj]);
+                s -= lik * ljk * values[start[k + 1] - 1];
+            }
+            if j < i {
+                let dj = values[start[j + 1] - 1];
+                values[si + j - fi] = if dropped[j] { 0.0 } else { s / dj };
+            } else if !(s.is_finite() && s >= -tol * a[r * n + c].abs()) {
+                return None;
+            } else if s <= tol * a[r * n + c].abs() {
+                dropped[i] = true;
+                values[si + i - fi] = 1.0;
+            } else {
+                values[si + i - fi] = s;
+            }
+        }
+    }
+    let mut basis = Vec::new();
+    for m in (0..n).filter(|&m| dropped[m]) {
+        // Lᵀ y = e_m (unit diagonal), back substitution by rows of L.
+        let mut y = vec![0.0; n];
+        y[m] = 1.0;
+        for i in (0..=m).rev() {
+            let yi = y[i];
+            if yi == 0.0 {
+                continue;
+            }
+            let fi = first[i];
+            for k in fi..i {
+                y[k] -= values[start[i] + k - fi] * yi;
+            }
+        }
+        let mut v = vec![0.0; n];
+        for (i, &p) in perm.iter().enumerate() {
+            v[p] = y[i];
+        }
+        basis.push(v);
+    }
+    Some(basis)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -221,6 +290,36 @@ mod tests {
             );
         }
         assert!(ord.envelope_size() < n * (n + 1) / 2);
+    }
+
+    #[test]
+    fn finds_the_null_space_of_a_semidefinite_matrix() {
+        // The Laplacian of two separate paths (0–1–2–3 and 4–5–6), numbered
+        // out of order: a null space of the constants on each path.
+        let n = 7;
+        let mut a = vec![0.0; n * n];
+        for (i, j) in [(0, 2), (2, 1), (1, 3), (4, 6), (6, 5)] {
+            a[i * n + i] += 1.0;
+            a[j * n + j] += 1.0;
+            a[i * n + j] -= 1.0;
+            a[j * n + i] -= 1.0;
+        }
+        let ord = Ordering::new(n, &a, &[]);
+        let basis = null_space(&ord, &a, 1e-9).expect("semidefinite");
+        assert_eq!(basis.len(), 2);
+        for v in &basis {
+            for i in 0..n {
+                let av: f64 = (0..n).map(|j| a[i * n + j] * v[j]).sum();
+                assert!(av.abs() < 1e-14, "{v:?}");
+            }
+        }
+        // A regular matrix has none; an indefinite one is refused.
+        let (m, b) = chain(5);
+        assert!(null_space(&Ordering::new(m, &b, &[]), &b, 1e-9)
+            .unwrap()
+            .is_empty());
+        let c = [1.0, 2.0, 2.0, 1.0];
+        assert!(null_space(&Ordering::new(2, &c, &[]), &c, 1e-9).is_none());
     }
 
     #[test]

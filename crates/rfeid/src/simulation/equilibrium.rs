@@ -5,7 +5,21 @@
 //! `K_t = ∂R/∂q`. A power-law spring has zero slope at δ = 0, so `K_t(0)` may
 //! be singular; the iteration then starts with Levenberg damping. The
 //! sensitivities follow from `K_t ∂q/∂x = −∂R/∂x`.
+//!
+//! A free direction (one no spring restrains, [`super::free`]) makes `K_t`
+//! singular for every q. If the weights pull along it there is no
+//! equilibrium, and the error names it
+//! ([`SimulationError::FreeUnderGravity`]); otherwise the equilibrium is
+//! unique up to the free motions, and is solved on their complement: with
+//! N the mass-orthonormal basis of the free motions, each solve is with
+//! `K_t + s M N Nᵀ M` (s a stiffness of the order of K_t's, in ω²), whose
+//! solution of `K_t Δ = −R` for R with `Nᵀ R = 0` is the one with
+//! `Nᵀ M Δ = 0`. The weights' part along the free motions (zero to 1e-9 of
+//! them, else the error above) is dropped, and so is that of `∂R/∂x`: the
+//! equilibrium found, and its sensitivities, are M-orthogonal to the free
+//! motions.
 use super::envelope::{EnvelopeCholesky, Ordering};
+use super::free::{free_directions, FreeSet};
 use super::power_law::power_law;
 use super::structure::Usage;
 use super::system::System;
@@ -71,7 +85,7 @@ pub struct Equilibrium {
 /// rounding: a long chain of stiff elements carries many bodies' weight
 /// through forces far above any one weight, and their sum cannot vanish to
 /// better than a few ulps of them.
-fn residual(sys: &System<'_>, q: &[f64]) -> (DVector<f64>, DVector<f64>) {
+fn residual(sys: &System<'_>, q: &[f64], weights: &[f64]) -> (DVector<f64>, DVector<f64>) {
     let n = sys.n;
     let mut r = DVector::zeros(n);
     let mut size = DVector::zeros(n);
@@ -82,7 +96,7 @@ fn residual(sys: &System<'_>, q: &[f64]) -> (DVector<f64>, DVector<f64>) {
             kq += a * q;
             abs += (a * q).abs();
         }
-        let weight = sys.minv_gravity[i] / sys.minv[i];
+        let weight = weights[i];
         r[i] = -kq / sys.minv[i] - weight;
         size[i] = abs / sys.minv[i] + weight.abs();
     }
@@ -112,17 +126,23 @@ fn balanced(res: &DVector<f64>, size: &DVector<f64>, tol: f64) -> bool {
 /// when every row of the residual is within 1e-13 of the largest weight, or
 /// within 64 ulps of the sum of its terms' magnitudes where that is larger
 /// (stiff chains carrying many bodies; see `residual`).
+///
+/// Fails with [`SimulationError::FreeUnderGravity`] if the weights pull
+/// along a free direction (see the module documentation).
 pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium, SimulationError> {
     let n = sys.n;
-    let weight_norm = (0..n)
-        .map(|i| (sys.minv_gravity[i] / sys.minv[i]).abs())
-        .fold(0.0, f64::max);
+    let free = free_directions(sys);
+    free.check_gravity(sys)?;
+    let mut weights: Vec<f64> = (0..n).map(|i| sys.minv_gravity[i] / sys.minv[i]).collect();
+    let weight_norm = weights.iter().fold(0.0, |m: f64, w| m.max(w.abs()));
+    free.remove_force(&mut weights);
     let ordering = (n > DENSE_UP_TO).then(|| {
-        let rows: Vec<Vec<usize>> = sys.power.iter().map(|p| p.row.coordinates()).collect();
+        let mut rows: Vec<Vec<usize>> = sys.power.iter().map(|p| p.row.coordinates()).collect();
+        rows.extend(free.supports());
         Ordering::new(n, &sys.tangent_stiffness(&vec![0.0; n]), &rows)
     });
     let mut q = vec![0.0; n];
-    let (mut res, mut size) = residual(sys, &q);
+    let (mut res, mut size) = residual(sys, &q, &weights);
     let tol = 1e-13 * weight_norm.max(f64::MIN_POSITIVE);
     let mut mu = 0.0;
     let mut iterations = 0;
@@ -136,7 +156,7 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
                 ),
             });
         }
-        let mut kt = sys.tangent_stiffness(&q);
+        let mut kt = regular_tangent(sys, &free, &q);
         let scale = (0..n).map(|i| kt[i * n + i].abs()).fold(0.0_f64, f64::max);
         let scale = scale.max(f64::MIN_POSITIVE);
         let diagonal: Vec<f64> = (0..n).map(|i| kt[i * n + i]).collect();
@@ -147,8 +167,9 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
             }
             let mut step: Vec<f64> = res.iter().map(|v| -v).collect();
             if Factor::new(n, &kt, ordering.as_ref()).solve(&mut step) {
-                let trial: Vec<f64> = q.iter().zip(&step).map(|(q, s)| q + s).collect();
-                let (tres, tsize) = residual(sys, &trial);
+                let mut trial: Vec<f64> = q.iter().zip(&step).map(|(q, s)| q + s).collect();
+                free.remove_motion(&mut trial);
+                let (tres, tsize) = residual(sys, &trial, &weights);
                 if tres.norm() < res.norm() && tres.iter().all(|v| v.is_finite()) {
                     q = trial;
                     (res, size) = (tres, tsize);
@@ -169,34 +190,63 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
         }
     }
 
-    let r = wrt.len();
+    let dq = sensitivities(sys, &free, ordering.as_ref(), &q, wrt)?;
+    Ok(Equilibrium { q, dq, iterations })
+}
+
+/// `∂q/∂x_j` for the parameters `wrt` at the equilibrium `q`, n × r
+/// row-major: `K_t ∂q/∂x = −∂R/∂x`, solved on the complement of the free
+/// motions (their part of `∂R/∂x` dropped).
+fn sensitivities(
+    sys: &System<'_>,
+    free: &FreeSet,
+    ordering: Option<&Ordering>,
+    q: &[f64],
+    wrt: &[usize],
+) -> Result<Vec<f64>, SimulationError> {
+    let (n, r) = (sys.n, wrt.len());
     let mut dq = vec![0.0; n * r];
-    if r > 0 {
-        let kt = sys.tangent_stiffness(&q);
-        let singular = || SimulationError::NoEquilibrium {
-            reason: "the tangent stiffness at equilibrium is singular".into(),
-        };
-        let factor = Factor::new(n, &kt, ordering.as_ref());
-        let mut rhs = DMatrix::zeros(n, r);
-        for (col, &p) in wrt.iter().enumerate() {
-            for usage in &sys.structure.usages[p] {
-                explicit(sys, *usage, &q, &mut rhs, col);
-            }
-        }
-        let mut x = vec![0.0; n];
-        for j in 0..r {
-            for (i, xi) in x.iter_mut().enumerate() {
-                *xi = -rhs[(i, j)];
-            }
-            if !factor.solve(&mut x) {
-                return Err(singular());
-            }
-            for (i, xi) in x.iter().enumerate() {
-                dq[i * r + j] = *xi;
-            }
+    if r == 0 {
+        return Ok(dq);
+    }
+    let factor = Factor::new(n, &regular_tangent(sys, free, q), ordering);
+    let mut rhs = DMatrix::zeros(n, r);
+    for (col, &p) in wrt.iter().enumerate() {
+        for usage in &sys.structure.usages[p] {
+            explicit(sys, *usage, q, &mut rhs, col);
         }
     }
-    Ok(Equilibrium { q, dq, iterations })
+    let mut x = vec![0.0; n];
+    for j in 0..r {
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = -rhs[(i, j)];
+        }
+        free.remove_force(&mut x);
+        if !factor.solve(&mut x) {
+            return Err(SimulationError::NoEquilibrium {
+                reason: "the tangent stiffness at equilibrium is singular".into(),
+            });
+        }
+        for (i, xi) in x.iter().enumerate() {
+            dq[i * r + j] = *xi;
+        }
+    }
+    Ok(dq)
+}
+
+/// The tangent stiffness `K_t(q)`, made regular along the free directions
+/// by adding `s M N Nᵀ M` (see the module documentation), with `s` the
+/// largest `K_t,ii / M_ii`: a stiffness like the stiffest of the model's.
+fn regular_tangent(sys: &System<'_>, free: &FreeSet, q: &[f64]) -> Vec<f64> {
+    let n = sys.n;
+    let mut kt = sys.tangent_stiffness(q);
+    if !free.is_empty() {
+        let s = (0..n)
+            .map(|i| (kt[i * n + i] * sys.minv[i]).abs())
+            .fold(0.0_f64, f64::max);
+        free.add_penalty(&mut kt, if s > 0.0 { s } else { 1.0 });
+    }
+    kt
 }
 
 /// `∂R/∂x` of one usage into column `col`.
@@ -229,6 +279,12 @@ fn explicit(sys: &System<'_>, usage: Usage, q: &[f64], rhs: &mut DMatrix<f64>, c
                 rhs[(6 * b + i, col)] -= sys.structure.gravity_local[b][i];
             }
         }
-        Usage::Damping(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {}
+        // A friction force is zero at rest.
+        // z = 0 at rest: a Bouc–Wen key does not act there either.
+        Usage::Damping(_)
+        | Usage::Friction(..)
+        | Usage::Hysteresis(..)
+        | Usage::Inertia(..)
+        | Usage::Amplitude(..) => {}
     }
 }

@@ -8,6 +8,9 @@ mod dim;
 mod envelope;
 pub mod equilibrium;
 mod force_derivative;
+pub mod free;
+mod friction;
+mod hysteresis;
 mod integrator;
 mod madd;
 pub mod modal;
@@ -64,6 +67,25 @@ fn fastest_mode_text(fastest_hz: &Option<f64>, sample_rate: f64, substeps: usize
             2.0 * std::f64::consts::PI * f / (sample_rate * substeps as f64)
         ),
         None => String::new(),
+    }
+}
+
+/// What a friction key must be.
+fn friction_rule(key: &str) -> &'static str {
+    match key {
+        "smoothing" | "vs" => "a velocity scale must be positive",
+        _ => "a friction force must not be negative",
+    }
+}
+
+/// A generalized force's size to four significant digits, in N or N·m.
+fn load_text(load: f64, moment: bool) -> String {
+    let (unit, v) = (if moment { "N·m" } else { "N" }, load.abs());
+    if (1e-3..1e6).contains(&v) {
+        let decimals = (3 - v.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$} {unit}")
+    } else {
+        format!("{v:.3e} {unit}")
     }
 }
 
@@ -149,6 +171,20 @@ pub enum SimulationError {
         /// The exponent.
         value: f64,
     },
+    /// A friction law with a negative force or a velocity scale that is not
+    /// positive.
+    #[error(
+        "element '{element}' has a friction law with {key} = {value}: {}",
+        friction_rule(key)
+    )]
+    BadFriction {
+        /// Element name.
+        element: String,
+        /// The key (`f`, `f_neg`, `fs`, `smoothing`, `vs`).
+        key: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// The run it belonged to was cancelled
     /// ([`crate::identification::cancel::Cancel`]); nothing was simulated.
     #[error("cancelled")]
@@ -159,11 +195,31 @@ pub enum SimulationError {
         /// What went wrong.
         reason: String,
     },
+    /// Gravity pulls along a direction no spring restrains
+    /// ([`free`]): the weights would accelerate it for ever, so no static
+    /// equilibrium exists.
+    #[error(
+        "no static equilibrium under gravity: {direction} (no spring restrains it), and the \
+         weights pull along it with {}; add a spring along it (a component with k, or a \
+         friction law's k), or make gravity perpendicular to it",
+        load_text(*load, *moment)
+    )]
+    FreeUnderGravity {
+        /// The first body that moves in that direction.
+        body: String,
+        /// The free direction as a sentence, e.g. `carriage is free along x`.
+        direction: String,
+        /// The weights' generalized force along it.
+        load: f64,
+        /// Whether that is a moment (N·m, a rotation) rather than a force (N).
+        moment: bool,
+    },
 }
 
 impl SimulationError {
     /// Whether the failure comes from parameter values the model cannot
-    /// take (not finite, a non-positive mass, an exponent below 1): the
+    /// take (not finite, a non-positive mass, an exponent below 1, gravity
+    /// along a free direction): the
     /// input's fault, where the other failures (divergence, no step
     /// meeting the tolerance, no equilibrium) are the computation's.
     pub fn is_bad_values(&self) -> bool {
@@ -172,6 +228,8 @@ impl SimulationError {
             SimulationError::BadParameter { .. }
                 | SimulationError::NonPositiveInertia { .. }
                 | SimulationError::BadExponent { .. }
+                | SimulationError::FreeUnderGravity { .. }
+                | SimulationError::BadFriction { .. }
         )
     }
 }

@@ -10,7 +10,14 @@
 //! A power-law spring `a·sign(δ)|δ|^m` with m > 1 has zero slope at δ = 0:
 //! linearised at rest it contributes no stiffness. The modes it alone would
 //! restrain appear as zero-stiffness modes, which are reported, not an error.
+//!
+//! A free direction (no spring at all along it, [`super::free`]; a feed
+//! axis driven through a damper or friction) is a rigid-body mode of zero
+//! frequency at any linearisation point. Those modes are reported first,
+//! each with its free direction in words and its shape along it; the other
+//! zero-stiffness modes follow, their shapes M-orthogonal to the free ones.
 use super::equilibrium::static_equilibrium;
+use super::free::{free_directions, FreeSet};
 use super::integrator::integrator;
 use super::power_law::power_law;
 use super::simulator::Simulator;
@@ -30,6 +37,9 @@ pub struct Mode {
     pub zero_stiffness: bool,
     /// Mass-normalised shape, one entry per generalized coordinate.
     pub shape: Vec<f64>,
+    /// For a free (rigid-body) mode, its direction in words (`carriage:
+    /// free along x`); None for any other mode.
+    pub free: Option<String>,
 }
 
 /// The result of a modal analysis.
@@ -42,6 +52,9 @@ pub struct ModalAnalysis {
     /// Power-law components with zero slope at the linearisation point, as
     /// `element/component`.
     pub zero_slope_components: Vec<String>,
+    /// The free directions in words ([`super::free`]): motions no spring
+    /// restrains, each a mode of zero frequency.
+    pub free_directions: Vec<String>,
 }
 
 /// Linearises at rest (or at equilibrium under gravity) and computes the modes.
@@ -63,38 +76,86 @@ pub fn modal_analysis(
     let lam_max = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-    let modes = order
+    let (zero, moving): (Vec<usize>, Vec<usize>) = order
         .into_iter()
-        .map(|j| {
-            let lam = eig.eigenvalues[j];
-            let shape: Vec<f64> = (0..n).map(|i| linv[i] * eig.eigenvectors[(i, j)]).collect();
-            let zero = lam <= 1e-10 * lam_max;
-            let omega = lam.max(0.0).sqrt();
-            let damping_ratio = (!zero).then(|| {
-                let phi = nalgebra::DVector::from_column_slice(&shape);
-                (phi.transpose() * &c * &phi)[(0, 0)] / (2.0 * omega)
-            });
-            Mode {
-                frequency_hz: if zero {
-                    0.0
-                } else {
-                    omega / (2.0 * std::f64::consts::PI)
-                },
-                damping_ratio,
-                zero_stiffness: zero,
-                shape,
-            }
+        .partition(|&j| eig.eigenvalues[j] <= 1e-10 * lam_max);
+    let free = free_directions(sys);
+    let zero_shapes: Vec<Vec<f64>> = zero
+        .iter()
+        .map(|&j| eig.eigenvectors.column(j).iter().copied().collect())
+        .collect();
+    let mut modes = zero_modes(model, &free, zero_shapes, &linv);
+    modes.extend(moving.into_iter().map(|j| {
+        let omega = eig.eigenvalues[j].max(0.0).sqrt();
+        let shape: Vec<f64> = (0..n).map(|i| linv[i] * eig.eigenvectors[(i, j)]).collect();
+        let phi = nalgebra::DVector::from_column_slice(&shape);
+        Mode {
+            frequency_hz: omega / (2.0 * std::f64::consts::PI),
+            damping_ratio: Some((phi.transpose() * &c * &phi)[(0, 0)] / (2.0 * omega)),
+            zero_stiffness: false,
+            shape,
+            free: None,
+        }
+    }));
+    Ok(ModalAnalysis {
+        modes,
+        at_equilibrium: model.gravity.is_some(),
+        zero_slope_components: zero_slope_components(sim, sys, &q),
+        free_directions: free.descriptions(model),
+    })
+}
+
+/// The zero-stiffness modes from the eigenvectors `zero` (mass-scaled
+/// coordinates) of the zero eigenvalues: first one per free direction,
+/// along it, then the rest of their span M-orthogonal to those. If the
+/// free directions do not fit in that span (rounding at the threshold),
+/// the eigenvectors as they are.
+fn zero_modes(model: &Model, free: &FreeSet, zero: Vec<Vec<f64>>, linv: &[f64]) -> Vec<Mode> {
+    let mode = |shape: Vec<f64>, free: Option<String>| Mode {
+        frequency_hz: 0.0,
+        damping_ratio: None,
+        zero_stiffness: true,
+        shape,
+        free,
+    };
+    let rest = free.complement(&zero);
+    if free.len() + rest.len() != zero.len() {
+        let unscale = |x: Vec<f64>| x.iter().zip(linv).map(|(x, l)| l * x).collect();
+        return zero.into_iter().map(|x| mode(unscale(x), None)).collect();
+    }
+    let mut modes: Vec<Mode> = free
+        .directions
+        .iter()
+        .map(|d| {
+            // Mass-normalised: φᵀ M φ = 1, with M = diag(1 / linv²).
+            let norm = d
+                .shape
+                .iter()
+                .zip(linv)
+                .map(|(v, l)| (v / l).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let shape = d.shape.iter().map(|v| v / norm).collect();
+            mode(shape, Some(d.describe(model)))
         })
         .collect();
-    let zero_slope_components = sim
-        .structure()
+    modes.extend(
+        rest.into_iter()
+            .map(|x| mode(x.iter().zip(linv).map(|(x, l)| l * x).collect(), None)),
+    );
+    modes
+}
+
+/// Power-law components with zero slope at `q`, as `element/component`.
+fn zero_slope_components(sim: &Simulator<'_>, sys: &System<'_>, q: &[f64]) -> Vec<String> {
+    let model = sim.model();
+    sim.structure()
         .components
         .iter()
         .zip(&sys.power_components())
-        .filter(|(_, pc)| pc.is_some())
         .filter_map(|(comp, pc)| {
-            let (a, m) = pc.unwrap();
-            let (_, slope) = power_law(a, m, comp.row.dot(&q));
+            let (a, m) = (*pc)?;
+            let (_, slope) = power_law(a, m, comp.row.dot(q));
             (slope == 0.0).then(|| {
                 format!(
                     "{}/{}",
@@ -103,12 +164,7 @@ pub fn modal_analysis(
                 )
             })
         })
-        .collect();
-    Ok(ModalAnalysis {
-        modes,
-        at_equilibrium: model.gravity.is_some(),
-        zero_slope_components,
-    })
+        .collect()
 }
 
 /// `L⁻¹ K_t(q) L⁻ᵀ` with `M = L Lᵀ`: its eigenvalues are the squared

@@ -33,9 +33,25 @@ pub(crate) struct SparseComp {
     /// The index of its power-law spring in the [`SparsePower`] list, if it
     /// has one (kept out of the component, which the kernels stream).
     pub power: Option<u32>,
+    /// The index of its friction law in the system's friction list, if it
+    /// has one.
+    pub friction: Option<u32>,
 }
 
 impl SparseComp {
+    /// `B_i x` for a vector of coordinates x (the velocities give δ̇), in
+    /// two partial sums, one per block.
+    #[inline(always)]
+    pub fn rate<M: Madd>(&self, x: &[f64]) -> f64 {
+        let [o0, o1] = self.off;
+        let mut d = [0.0; 2];
+        for i in 0..6 {
+            d[0] = M::madd(self.b[i], x[o0 + i], d[0]);
+            d[1] = M::madd(self.b[6 + i], x[o1 + i], d[1]);
+        }
+        d[0] + d[1]
+    }
+
     /// The component's power-law spring in `powers`, if any.
     #[inline(always)]
     pub fn power<'p>(&self, powers: &'p [SparsePower]) -> Option<&'p SparsePower> {
@@ -93,6 +109,7 @@ pub(crate) fn sparse_components(
                 k,
                 c,
                 power,
+                friction: None,
             }
         })
         .collect();

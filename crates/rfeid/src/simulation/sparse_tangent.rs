@@ -11,6 +11,7 @@
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
 use super::force_derivative::force_derivative;
+use super::friction::FrictionForce;
 use super::madd::Madd;
 use super::power_law::power_law;
 use super::preload::power_change;
@@ -106,22 +107,29 @@ pub(crate) fn sparse_tangent<M: Madd>(
             }
             None => (comp.k, 0.0),
         };
+        // A friction law's slope in δ̇ adds to the damping.
+        let friction = comp.friction.map(|j| &sys.frictions[j as usize].law);
+        let damp = match friction {
+            Some(fr) => comp.c + fr.slope(comp.rate::<M>(v)),
+            None => comp.c,
+        };
         let explicit = Explicit {
             power,
+            friction,
             usages,
             d,
             v,
             change,
             statics,
         };
-        let (rows, comp) = ([o0, o1], (comp, entries));
+        let comp = (comp, entries);
         let mut c0 = 0;
         while c0 + 8 <= width {
-            component_columns::<M, 8>(comp, &explicit, slope, rows, (yq, yv), c0, dacc);
+            component_columns::<M, 8>(comp, &explicit, (slope, damp), (yq, yv), c0, dacc);
             c0 += 8;
         }
         if c0 < width {
-            component_columns::<M, 4>(comp, &explicit, slope, rows, (yq, yv), c0, dacc);
+            component_columns::<M, 4>(comp, &explicit, (slope, damp), (yq, yv), c0, dacc);
         }
     }
 }
@@ -132,6 +140,8 @@ pub(crate) fn sparse_tangent<M: Madd>(
 struct Explicit<'a> {
     /// The component's power-law spring, if any.
     power: Option<&'a SparsePower>,
+    /// The component's friction law, if any.
+    friction: Option<&'a FrictionForce>,
     /// (column, usage) of the parameters acting on the component.
     usages: &'a [(usize, Usage)],
     /// Its deformation (from the static one, if any).
@@ -149,8 +159,7 @@ struct Explicit<'a> {
 fn component_columns<M: Madd, const W: usize>(
     (comp, entries): (&SparseComp, &Entries),
     e: &Explicit<'_>,
-    slope: f64,
-    [o0, o1]: [usize; 2],
+    (slope, damp): (f64, f64),
     (yq, yv): (&[f64], &[f64]),
     c0: usize,
     dacc: &mut [f64],
@@ -170,18 +179,12 @@ fn component_columns<M: Madd, const W: usize>(
                 Some(p) => (Some(p.spring), p.pre),
                 None => (None, Preload::default()),
             };
-            s[col - c0] += force_derivative(usage, spring, &pre, d, || {
-                let mut dv = [0.0; 2];
-                for i in 0..6 {
-                    dv[0] = M::madd(comp.b[i], v[o0 + i], dv[0]);
-                    dv[1] = M::madd(comp.b[6 + i], v[o1 + i], dv[1]);
-                }
-                dv[0] + dv[1]
-            });
+            let laws = (spring, e.friction);
+            s[col - c0] += force_derivative(usage, laws, &pre, d, || comp.rate::<M>(v));
         }
     }
     for (at, b, _) in entries.iter() {
-        let (bs, bc) = (slope * b, comp.c * b);
+        let (bs, bc) = (slope * b, damp * b);
         let at = at + c0;
         let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
         for l in 0..W {

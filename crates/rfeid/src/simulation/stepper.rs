@@ -15,6 +15,7 @@
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
 use super::dim::Dim;
+use super::hysteresis::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
 use super::madd::Madd;
 use super::sines::StageSines;
 use super::system::System;
@@ -92,6 +93,8 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let n = D::n(self.sys.n);
         let n2 = 2 * n;
         ws.y_stage[..n2].copy_from_slice(&ws.y);
+        let nz = ws.z.y.len();
+        ws.z.y_stage[..nz].copy_from_slice(&ws.z.y);
         if let Some(sines) = &self.sines {
             sines.start(t, &mut ws.phases, &mut ws.forces);
             (ws.forces_time, ws.phases_time, ws.forces_before) = (t, t, false);
@@ -99,6 +102,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         self.derivative(ws, 0, t);
         if with_sens {
             ws.sy_stage.copy_from_slice(&ws.sy);
+            ws.z.sy_stage.copy_from_slice(&ws.z.sy);
             self.sens_derivative(ws, 0, t);
         }
     }
@@ -126,6 +130,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                     self.sens_stages(ws, ti, hi);
                 }
                 std::mem::swap(&mut ws.y, &mut ws.y_new);
+                std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
                 from = to;
                 i += 1;
             }
@@ -135,6 +140,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             self.sens_stages(ws, t, h);
         }
         std::mem::swap(&mut ws.y, &mut ws.y_new);
+        std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
     }
 
     /// Stage i's derivative from stage state i.
@@ -152,6 +158,15 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         ki[..n].copy_from_slice(&ys[n..]);
         self.sys
             .accel_with::<M, D>(&ws.forces, ys, &mut ws.power_forces, &mut ki[n..]);
+        let nz = ws.z.y.len();
+        if nz > 0 {
+            // The Bouc–Wen forces z and the rates ż (`hysteresis`).
+            let (comps, rows) = (&self.sys.comps[..], &self.sys.hysteresis[..]);
+            let zs = &ws.z.y_stage[i * nz..(i + 1) * nz];
+            hysteresis_accel::<M>(comps, rows, zs, &mut ki[n..]);
+            let kz = &mut ws.z.k[i * nz..(i + 1) * nz];
+            hysteresis_rates::<M>(comps, rows, (&ys[n..], zs), kz);
+        }
     }
 
     /// Whether stage i evaluates the excitation as the limit from before its
@@ -182,6 +197,16 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             dv,
             &mut ws.scratch,
         );
+        let nz = ws.z.y.len();
+        if nz > 0 {
+            let (comps, rows) = (&self.sys.comps[..], &self.sys.hysteresis[..]);
+            let zs = &ws.z.y_stage[i * nz..(i + 1) * nz];
+            let dz = &mut ws.z.ks[i * nz * w..(i + 1) * nz * w];
+            let yv = &ws.sy_stage[n * w..2 * n * w];
+            let usages = self.tangent.hysteresis_usages();
+            let states = (&ys[n..], zs);
+            hysteresis_tangent::<M>(comps, rows, usages, states, (yv, &ws.z.sy_stage), w, dv, dz);
+        }
     }
 
     /// Stages 1.. of the state and `y_new = y + h Σ b_i k_i`.
@@ -194,6 +219,12 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 combine::<M>(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
                 let _ = done;
             }
+            let nz = ws.z.y.len();
+            if nz > 0 {
+                let z = &mut ws.z;
+                let stage = &mut z.y_stage[i * nz..(i + 1) * nz];
+                combine::<M>(&z.y, &z.k, &self.a_nz[i], h, nz, stage);
+            }
             let ti = t + self.tab.c[i] * h;
             match &self.sines {
                 Some(sines) if h == sines.h && ws.phases_time == t => {
@@ -205,6 +236,10 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             self.derivative(ws, i, ti);
         }
         combine::<M>(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
+        let nz = ws.z.y.len();
+        if nz > 0 {
+            combine::<M>(&ws.z.y, &ws.z.k, &self.b_nz, h, nz, &mut ws.z.y_new);
+        }
     }
 
     /// Stages 1.. of the sensitivities (reusing the state's stage states)
@@ -212,11 +247,19 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     #[inline(always)]
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
         let len = 2 * D::n(self.sys.n) * self.tangent.width;
+        let len_z = ws.z.y.len() * self.tangent.width;
         for i in 1..self.tab.stages() {
             combine::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
+            if len_z > 0 {
+                let z = &mut ws.z;
+                combine::<M>(&z.sy, &z.ks, &self.a_nz[i], h, len_z, &mut z.sy_stage);
+            }
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
         }
         accumulate::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
+        if len_z > 0 {
+            accumulate::<M>(&mut ws.z.sy, &ws.z.ks, &self.b_nz, h, len_z);
+        }
     }
 
     /// Fractions θ ∈ (0, 1) of the step at which a power-law

@@ -96,12 +96,47 @@ pub enum Usage {
     PowerCoefficient(usize),
     /// Exponent m of power-law component row i.
     PowerExponent(usize),
+    /// A key of friction component row i (its `k` is a [`Usage::Stiffness`]).
+    Friction(usize, FrictionKey),
+    /// A key of Bouc–Wen component row i (its `k` is a [`Usage::Stiffness`]).
+    Hysteresis(usize, HysteresisKey),
     /// Mass of body b.
     Mass(usize),
     /// Principal moment of inertia `axis` of body b.
     Inertia(usize, usize),
     /// Amplitude of term j of excitation e.
     Amplitude(usize, usize),
+}
+
+/// The keys of a friction law (SPEC §1) a parameter may stand for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionKey {
+    /// `f`, the Coulomb force (for v > 0 when `f_neg` is given).
+    Coulomb,
+    /// `f_neg`, the Coulomb force for v < 0.
+    CoulombNegative,
+    /// `fs`, Stribeck's break-away force.
+    Static,
+    /// `vs`, Stribeck's velocity.
+    StribeckVelocity,
+    /// `smoothing`, the velocity of the smooth sign.
+    Smoothing,
+}
+
+/// The keys of a Bouc–Wen law (SPEC §1) that enter its internal state's
+/// rate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HysteresisKey {
+    /// `alpha`.
+    Alpha,
+    /// `beta`.
+    Beta,
+    /// `gamma`.
+    Gamma,
+    /// `d`.
+    D,
+    /// `n`, the exponent.
+    N,
 }
 
 /// The parameter-independent structure of a model.
@@ -260,6 +295,30 @@ fn usages(model: &Model, components: &[ComponentRow]) -> Vec<Vec<Usage>> {
             Law::Power { a, m, .. } => {
                 add(a, Usage::PowerCoefficient(i));
                 add(m, Usage::PowerExponent(i));
+            }
+            Law::Friction(fr) => {
+                add(&fr.k, Usage::Stiffness(i));
+                add(&fr.f, Usage::Friction(i, FrictionKey::Coulomb));
+                if let Some(f_neg) = &fr.f_neg {
+                    add(f_neg, Usage::Friction(i, FrictionKey::CoulombNegative));
+                }
+                if let Some((fs, vs)) = &fr.stribeck {
+                    add(fs, Usage::Friction(i, FrictionKey::Static));
+                    add(vs, Usage::Friction(i, FrictionKey::StribeckVelocity));
+                }
+                add(&fr.smoothing, Usage::Friction(i, FrictionKey::Smoothing));
+            }
+            Law::BoucWen(bw) => {
+                add(&bw.k, Usage::Stiffness(i));
+                for (v, key) in [
+                    (&bw.alpha, HysteresisKey::Alpha),
+                    (&bw.beta, HysteresisKey::Beta),
+                    (&bw.gamma, HysteresisKey::Gamma),
+                    (&bw.d, HysteresisKey::D),
+                    (&bw.n, HysteresisKey::N),
+                ] {
+                    add(v, Usage::Hysteresis(i, key));
+                }
             }
         }
         add(&c.damping, Usage::Damping(i));

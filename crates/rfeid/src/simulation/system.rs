@@ -10,6 +10,8 @@
 //! ([`System::set_reference`], `preload`).
 use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
+use super::friction::{friction_accel, friction_rows, FrictionRow};
+use super::hysteresis::{hysteresis_rows, HysteresisRow};
 use super::madd::{Madd, Separate};
 pub use super::power_law::power_law;
 use super::preload::{power_change, Preload};
@@ -95,6 +97,13 @@ pub struct System<'a> {
     groups: Vec<SparseGroup>,
     /// `M⁻¹ L_e` per excitation by nonzero 6-blocks, for the sparse kernel.
     pub(crate) minv_load_blocks: Vec<Row>,
+    /// The friction components, in component order: their forces are added
+    /// after either kernel ([`friction_accel`]); their springs and dampers
+    /// are in the kernels' linear parts.
+    pub(crate) frictions: Vec<FrictionRow>,
+    /// The Bouc–Wen components, in component order, each with an internal
+    /// state z that the stepper integrates beside `[q; q̇]` (`hysteresis`).
+    pub(crate) hysteresis: Vec<HysteresisRow>,
 }
 
 impl<'a> System<'a> {
@@ -118,11 +127,19 @@ impl<'a> System<'a> {
             let comp = &structure.components[i];
             let k = match comp.law {
                 Law::Linear { k } => k.eval(params),
+                Law::Friction(fr) => fr.k.eval(params),
+                Law::BoucWen(bw) => bw.k.eval(params),
                 _ => 0.0,
             };
             (k, comp.damping.eval(params), comp.law.power_spring(params))
         });
         let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
+        let frictions = friction_rows(model, &structure.components, params)?;
+        let hysteresis = hysteresis_rows(model, &structure.components, params)?;
+        let mut comps = comps;
+        for (j, fr) in frictions.iter().enumerate() {
+            comps[fr.comp].friction = Some(j as u32);
+        }
         let mut sys = System {
             power_b: Aligned::default(),
             power_am: Vec::new(),
@@ -139,6 +156,8 @@ impl<'a> System<'a> {
             comps,
             powers,
             minv_load_blocks,
+            frictions,
+            hysteresis,
             structure,
             model,
             params: params.to_vec(),
@@ -258,7 +277,13 @@ impl<'a> System<'a> {
         self.power_am.len()
     }
 
-    /// `q̈ = a(t, q, q̇)` for the state `y = [q; q̇]` (length 2n), into `acc`
+    /// The number of internal states z: one per Bouc–Wen component.
+    pub fn internal_states(&self) -> usize {
+        self.hysteresis.len()
+    }
+
+    /// `q̈ = a(t, q, q̇)` for the state `y = [q; q̇]` (length 2n) with the
+    /// Bouc–Wen states z = 0 (the stepper adds their forces), into `acc`
     /// (length n); `forces` are the excitation forces at t ([`System::forces`]),
     /// `scratch` is at least [`System::scratch_len`] long.
     #[inline(always)]
@@ -280,8 +305,25 @@ impl<'a> System<'a> {
         if self.sparse {
             let (g, loads) = (&self.base, &self.minv_load_blocks);
             let comps = (&self.groups[..], &self.powers[..]);
-            return sparse_accel::<M>(comps, g, loads, forces, y, acc);
+            sparse_accel::<M>(comps, g, loads, forces, y, acc);
+        } else {
+            self.dense_accel::<M, D>(forces, y, scratch, acc);
         }
+        if !self.frictions.is_empty() {
+            friction_accel::<M>(&self.comps, &self.frictions, &y[n..], acc);
+        }
+    }
+
+    /// The dense kernel of [`Self::accel_with`], without the friction forces.
+    #[inline(always)]
+    fn dense_accel<M: Madd, D: Dim>(
+        &self,
+        forces: &[f64],
+        y: &[f64],
+        scratch: &mut [f64],
+        acc: &mut [f64],
+    ) {
+        let n = D::n(self.n);
         let slots = self.power_am.len();
         let fp = &mut scratch[..slots];
         // The power-law forces four at a time: δ = B q for the panel, then
@@ -472,6 +514,8 @@ fn component_matrices(
         match comp.law {
             Law::None => {}
             Law::Linear { k: kv } => add_outer(&mut k, n, &comp.row, kv.eval(params)),
+            Law::Friction(fr) => add_outer(&mut k, n, &comp.row, fr.k.eval(params)),
+            Law::BoucWen(bw) => add_outer(&mut k, n, &comp.row, bw.k.eval(params)),
             Law::Power { m, .. } => {
                 let m = m.eval(params);
                 if !(m >= 1.0) {

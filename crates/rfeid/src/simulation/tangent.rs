@@ -24,11 +24,12 @@
 //! multiply the constant `B_p ∂q₀/∂x` of each power-law spring p.
 use super::dim::Dim;
 use super::force_derivative::force_derivative;
+use super::friction::FrictionForce;
 use super::madd::Madd;
 use super::power_law::power_law;
 use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
-use super::structure::{ComponentRow, Row, Structure, Usage};
+use super::structure::{ComponentRow, HysteresisKey, Row, Structure, Usage};
 use super::system::System;
 use crate::model::{Law, PowerSpring};
 
@@ -42,6 +43,8 @@ struct Active {
     g: Vec<f64>,
     /// The power-law spring, if any.
     power: Option<PowerSpring>,
+    /// The friction law, if any: its slope in δ̇ enters J's velocity half.
+    friction: Option<FrictionForce>,
     /// Its static deformation.
     pre: Preload,
     /// `B_i ∂q₀/∂x` ([`static_columns`]).
@@ -72,6 +75,9 @@ pub(crate) struct Tangent {
     /// For each component row, its nonzero entries for rows `width` long.
     /// Empty unless `sparse`.
     component_entries: Vec<Entries>,
+    /// For each Bouc–Wen component ([`System::hysteresis`]), the
+    /// identified parameters acting on its internal state: (column, key).
+    hysteresis: Vec<Vec<(usize, HysteresisKey)>>,
 }
 
 impl Tangent {
@@ -82,9 +88,12 @@ impl Tangent {
             return Tangent::empty(sys.sparse);
         }
         let (usages, others) = usages_by_component(sys.structure, wrt);
+        let usages_hysteresis = usages.clone();
         let width = wrt.len().next_multiple_of(4);
         if sys.sparse {
-            return Tangent::sparse(sys, wrt.len(), width, usages, others);
+            let mut t = Tangent::sparse(sys, wrt.len(), width, usages, others);
+            t.hysteresis = hysteresis_usages(sys, &usages_hysteresis);
+            return t;
         }
         Tangent {
             width,
@@ -94,6 +103,7 @@ impl Tangent {
             component_usages: Vec::new(),
             component_statics: Vec::new(),
             component_entries: Vec::new(),
+            hysteresis: hysteresis_usages(sys, &usages_hysteresis),
         }
     }
 
@@ -107,6 +117,7 @@ impl Tangent {
             component_usages: Vec::new(),
             component_statics: Vec::new(),
             component_entries: Vec::new(),
+            hysteresis: Vec::new(),
         }
     }
 
@@ -142,7 +153,14 @@ impl Tangent {
             component_usages: usages,
             component_statics,
             component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
+            hysteresis: Vec::new(),
         }
+    }
+
+    /// For each Bouc–Wen component, the identified parameters acting on its
+    /// internal state: (column, key); empty without sensitivities.
+    pub fn hysteresis_usages(&self) -> &[Vec<(usize, HysteresisKey)>] {
+        &self.hysteresis
     }
 
     /// Scratch length that [`Self::apply`] needs for n coordinates: J
@@ -212,8 +230,19 @@ impl Tangent {
                     }
                 }
             }
+            let mut cached = None;
+            let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
+            if let Some(fr) = &comp.friction {
+                let slope = fr.slope(rate());
+                if slope != 0.0 {
+                    for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
+                        axpy::<M>(slope * g[k], b, &mut row[n..]);
+                    }
+                }
+            }
             for &(col, usage) in &comp.usages {
-                let f = force_derivative(usage, comp.power, &comp.pre, d, || dot::<M>(b, v));
+                let laws = (comp.power, comp.friction.as_ref());
+                let f = force_derivative(usage, laws, &comp.pre, d, &mut rate);
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
         }
@@ -288,7 +317,9 @@ fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsage
                 Usage::Stiffness(i)
                 | Usage::Damping(i)
                 | Usage::PowerCoefficient(i)
-                | Usage::PowerExponent(i) => usages[i].push((col, usage)),
+                | Usage::PowerExponent(i)
+                | Usage::Friction(i, _)
+                | Usage::Hysteresis(i, _) => usages[i].push((col, usage)),
                 Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
                     others.push((col, usage))
                 }
@@ -296,6 +327,26 @@ fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsage
         }
     }
     (usages, others)
+}
+
+/// For each Bouc–Wen component of `sys`, the (column, key) of its
+/// parameters among the component usages `usages`.
+fn hysteresis_usages(
+    sys: &System<'_>,
+    usages: &[ColumnUsages],
+) -> Vec<Vec<(usize, HysteresisKey)>> {
+    sys.hysteresis
+        .iter()
+        .map(|row| {
+            usages[row.comp]
+                .iter()
+                .filter_map(|&(col, u)| match u {
+                    Usage::Hysteresis(_, key) => Some((col, key)),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// A component's `B_i ∂q₀/∂x` ([`static_columns`]) if it is a power-law
@@ -327,7 +378,9 @@ fn active_components(
         .iter()
         .zip(usages)
         .zip(&sys.comps)
-        .filter(|((c, u), _)| matches!(c.law, Law::Power { .. }) || !u.is_empty())
+        .filter(|((c, u), _)| {
+            matches!(c.law, Law::Power { .. } | Law::Friction(_)) || !u.is_empty()
+        })
         .map(|((c, usages), comp)| {
             let power = c.law.power_spring(&sys.params);
             let b = c.row.dense(n);
@@ -335,6 +388,7 @@ fn active_components(
                 g: b.iter().zip(&sys.minv).map(|(b, m)| -b * m).collect(),
                 b,
                 power,
+                friction: comp.friction.map(|j| sys.frictions[j as usize].law),
                 pre: comp
                     .power(&sys.powers)
                     .map_or_else(Preload::default, |p| p.pre),

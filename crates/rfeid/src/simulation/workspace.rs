@@ -32,6 +32,23 @@ pub struct Workspace {
     pub(super) crossings: Vec<f64>,
     /// The buffers of the parameter groups run in parallel (`columns`).
     pub(crate) groups: Vec<GroupBuffers>,
+    /// The Bouc–Wen internal states and their sensitivities, laid out as
+    /// the fields above for z (empty without Bouc–Wen components), kept
+    /// apart so that the motion's loops keep their fixed lengths.
+    pub(crate) z: InternalStates,
+}
+
+/// The internal states z of a run (`hysteresis`): the state, its stages
+/// and their sensitivities, as the motion's in [`Workspace`].
+#[derive(Debug, Clone, Default)]
+pub struct InternalStates {
+    pub(crate) y: Vec<f64>,
+    pub(super) y_new: Vec<f64>,
+    pub(super) y_stage: Vec<f64>,
+    pub(super) k: Vec<f64>,
+    pub(crate) sy: Vec<f64>,
+    pub(super) sy_stage: Vec<f64>,
+    pub(super) ks: Vec<f64>,
 }
 
 impl Workspace {
@@ -45,18 +62,25 @@ impl Workspace {
         (width, scratch): (usize, usize),
         sine_terms: usize,
     ) {
-        let n = sys.n;
+        let (n2, nz) = (2 * sys.n, sys.internal_states());
         let resize = |v: &mut Vec<f64>, len: usize| {
             v.clear();
             v.resize(len, 0.0);
         };
-        resize(&mut self.y, 2 * n);
-        resize(&mut self.y_new, 2 * n);
-        resize(&mut self.y_stage, stages * 2 * n);
-        resize(&mut self.k, stages * 2 * n);
-        resize(&mut self.sy, 2 * n * width);
-        resize(&mut self.sy_stage, 2 * n * width);
-        resize(&mut self.ks, stages * 2 * n * width);
+        resize(&mut self.y, n2);
+        resize(&mut self.y_new, n2);
+        resize(&mut self.y_stage, stages * n2);
+        resize(&mut self.k, stages * n2);
+        resize(&mut self.sy, n2 * width);
+        resize(&mut self.sy_stage, n2 * width);
+        resize(&mut self.ks, stages * n2 * width);
+        resize(&mut self.z.y, nz);
+        resize(&mut self.z.y_new, nz);
+        resize(&mut self.z.y_stage, stages * nz);
+        resize(&mut self.z.k, stages * nz);
+        resize(&mut self.z.sy, nz * width);
+        resize(&mut self.z.sy_stage, nz * width);
+        resize(&mut self.z.ks, stages * nz * width);
         resize(&mut self.scratch, scratch);
         resize(&mut self.forces, sys.minv_loads.len());
         resize(&mut self.power_forces, sys.scratch_len());

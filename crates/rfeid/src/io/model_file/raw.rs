@@ -95,6 +95,16 @@ pub struct RawComponent {
     pub m: Option<SNum>,
     pub c: Option<SNum>,
     pub reference: Option<SNum>,
+    pub f: Option<SNum>,
+    pub f_neg: Option<SNum>,
+    pub fs: Option<SNum>,
+    pub vs: Option<SNum>,
+    pub smoothing: Option<SNum>,
+    pub alpha: Option<SNum>,
+    pub beta: Option<SNum>,
+    pub gamma: Option<SNum>,
+    pub d: Option<SNum>,
+    pub n: Option<SNum>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -157,6 +167,7 @@ pub struct RawSignal {
     pub file: Option<Spanned<String>>,
     pub column: Option<Spanned<String>>,
     pub variable: Option<Spanned<String>>,
+    pub interpolation: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize)]

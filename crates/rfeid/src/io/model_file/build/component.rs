@@ -42,6 +42,8 @@ fn law_name(rc: &RawComponent) -> String {
     match &rc.law {
         Some(l) => l.get_ref().trim().to_string(),
         None if rc.a.is_some() || rc.m.is_some() => "power".into(),
+        None if rc.f.is_some() => "friction".into(),
+        None if rc.alpha.is_some() => "bouc-wen".into(),
         None if rc.k.is_some() => "linear".into(),
         None => "none".into(),
     }
@@ -50,9 +52,22 @@ fn law_name(rc: &RawComponent) -> String {
 /// A component's spring law, with only that law's coefficients.
 fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     let rc = comp.raw();
-    match law_name(rc).as_str() {
+    let name = law_name(rc);
+    if name != "friction" {
+        for (v, field) in friction_keys(rc) {
+            forbid(ctx, v, field, &name, &comp.entry)?;
+        }
+    }
+    if name != "bouc-wen" {
+        for (v, field) in hysteresis_keys(rc) {
+            forbid(ctx, v, field, &name, &comp.entry)?;
+        }
+    }
+    match name.as_str() {
         "linear" => linear_law(ctx, comp),
         "power" => power_law(ctx, comp),
+        "friction" => friction_law(ctx, comp),
+        "bouc-wen" => bouc_wen_law(ctx, comp),
         "none" => {
             forbid(ctx, &rc.reference, "reference", "none", &comp.entry)?;
             if rc.c.is_none() {
@@ -71,10 +86,184 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
                 span,
                 &comp.entry,
                 "law",
-                format!("unknown law '{other}' (linear or power)"),
+                format!("unknown law '{other}' (linear, power, friction or bouc-wen)"),
             ))
         }
     }
+}
+
+/// The friction law's own keys, with their names.
+fn friction_keys(rc: &RawComponent) -> [(&Option<SNum>, &'static str); 5] {
+    [
+        (&rc.f, "f"),
+        (&rc.f_neg, "f_neg"),
+        (&rc.fs, "fs"),
+        (&rc.vs, "vs"),
+        (&rc.smoothing, "smoothing"),
+    ]
+}
+
+/// The Bouc–Wen law's own keys (its `k` is shared), with their names.
+fn hysteresis_keys(rc: &RawComponent) -> [(&Option<SNum>, &'static str); 5] {
+    [
+        (&rc.alpha, "alpha"),
+        (&rc.beta, "beta"),
+        (&rc.gamma, "gamma"),
+        (&rc.d, "d"),
+        (&rc.n, "n"),
+    ]
+}
+
+/// Bouc–Wen hysteresis (SPEC §1): `alpha`, `beta`, `gamma` and `d`
+/// required, the exponent `n ≥ 1` (default 1), an optional spring `k ≥ 0`.
+/// β's unit follows n: `ż` is a force per second, so β γ |v| |z|^n is too
+/// (β in 1/m for n = 1).
+fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
+    let (rc, entry) = (comp.raw(), comp.entry.as_str());
+    forbid(ctx, &rc.a, "a", "bouc-wen", entry)?;
+    forbid(ctx, &rc.m, "m", "bouc-wen", entry)?;
+    forbid(ctx, &rc.reference, "reference", "bouc-wen", entry)?;
+    let (force, length, k_dim) = match comp.rotational {
+        true => (
+            Dimension::MOMENT,
+            Dimension::DIMENSIONLESS,
+            Dimension::MOMENT,
+        ),
+        false => (Dimension::FORCE, Dimension::LENGTH, Dimension::STIFFNESS),
+    };
+    let (n, n_nominal) = match &rc.n {
+        None => (Value::Fixed(1.0), 1.0),
+        Some(raw) => {
+            let n = ctx.value(raw, Dimension::DIMENSIONLESS, entry, "n")?;
+            let nominal = match n {
+                Value::Fixed(x) => x,
+                Value::Param(i) => ctx.params[i].value.0,
+            };
+            if !(nominal >= 1.0) {
+                return Err(ctx.err(
+                    Some(raw.span()),
+                    entry,
+                    "n",
+                    format!("the exponent must be at least 1 (found {nominal})"),
+                ));
+            }
+            (n, nominal)
+        }
+    };
+    let span = comp.c.span();
+    let get = |ctx: &mut Ctx, raw: &Option<SNum>, dim: Dimension, field: &str| {
+        ctx.value(
+            required(ctx, raw, span.clone(), entry, field)?,
+            dim,
+            entry,
+            field,
+        )
+    };
+    let alpha = get(ctx, &rc.alpha, k_dim, "alpha")?;
+    non_negative(ctx, alpha, &rc.alpha, entry, "alpha")?;
+    let beta_dim = force.powf(1.0 - n_nominal).div(length);
+    let beta = get(ctx, &rc.beta, beta_dim, "beta")?;
+    let gamma = get(ctx, &rc.gamma, Dimension::DIMENSIONLESS, "gamma")?;
+    let d = get(ctx, &rc.d, Dimension::DIMENSIONLESS, "d")?;
+    let k = match &rc.k {
+        Some(_) => {
+            let k = get(ctx, &rc.k, k_dim, "k")?;
+            non_negative(ctx, k, &rc.k, entry, "k")?;
+            k
+        }
+        None => Value::Fixed(0.0),
+    };
+    Ok(Law::BoucWen(BoucWen {
+        k,
+        alpha,
+        beta,
+        gamma,
+        d,
+        n,
+    }))
+}
+
+/// Friction (SPEC §1): a Coulomb force `f ≥ 0`, optional `f_neg ≥ 0`,
+/// Stribeck's `fs` and `vs` together, the smoothing velocity (default
+/// 1 mm/s, or 1 mrad/s for a rotation) and an optional parallel spring `k`.
+fn friction_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
+    let (rc, entry) = (comp.raw(), comp.entry.as_str());
+    forbid(ctx, &rc.a, "a", "friction", entry)?;
+    forbid(ctx, &rc.m, "m", "friction", entry)?;
+    forbid(ctx, &rc.reference, "reference", "friction", entry)?;
+    let (f_dim, v_dim, k_dim) = match comp.rotational {
+        true => (Dimension::MOMENT, Dimension::FREQUENCY, Dimension::MOMENT),
+        false => (
+            Dimension::FORCE,
+            Dimension::LENGTH.div(Dimension::TIME),
+            Dimension::STIFFNESS,
+        ),
+    };
+    let force = |ctx: &mut Ctx, raw: &Option<SNum>, field: &str| -> Result<Option<Value>> {
+        let Some(r) = raw else { return Ok(None) };
+        let v = ctx.value(r, f_dim, entry, field)?;
+        non_negative(ctx, v, raw, entry, field)?;
+        Ok(Some(v))
+    };
+    let f_raw = required(ctx, &rc.f, comp.c.span(), entry, "f")?;
+    let f = force(ctx, &Some(f_raw.clone()), "f")?.expect("given");
+    let f_neg = force(ctx, &rc.f_neg, "f_neg")?;
+    let stribeck = match (&rc.fs, &rc.vs) {
+        (Some(_), Some(vs)) => {
+            let fs = force(ctx, &rc.fs, "fs")?.expect("given");
+            Some((fs, positive(ctx, vs, v_dim, entry, "vs")?))
+        }
+        (None, None) => None,
+        (given, _) => {
+            let (field, other) = match given {
+                Some(_) => ("fs", "vs"),
+                None => ("vs", "fs"),
+            };
+            let span = rc.fs.as_ref().or(rc.vs.as_ref()).map(|v| v.span());
+            return Err(ctx.err(
+                span,
+                entry,
+                field,
+                format!("Stribeck friction needs both fs and vs: add '{other}'"),
+            ));
+        }
+    };
+    let smoothing = match &rc.smoothing {
+        Some(s) => positive(ctx, s, v_dim, entry, "smoothing")?,
+        None => Value::Fixed(1e-3),
+    };
+    let k = match &rc.k {
+        Some(k) => {
+            let v = ctx.value(k, k_dim, entry, "k")?;
+            non_negative(ctx, v, &rc.k, entry, "k")?;
+            v
+        }
+        None => Value::Fixed(0.0),
+    };
+    Ok(Law::Friction(Friction {
+        k,
+        f,
+        f_neg,
+        stribeck,
+        smoothing,
+    }))
+}
+
+/// A velocity scale: a value of dimension `dim` that must be positive if
+/// fixed.
+fn positive(ctx: &mut Ctx, raw: &SNum, dim: Dimension, entry: &str, field: &str) -> Result<Value> {
+    let v = ctx.value(raw, dim, entry, field)?;
+    if let Value::Fixed(x) = v {
+        if !(x > 0.0) {
+            return Err(ctx.err(
+                Some(raw.span()),
+                entry,
+                field,
+                format!("must be positive (found {x})"),
+            ));
+        }
+    }
+    Ok(v)
 }
 
 /// An error if a coefficient that does not belong to `law` is given.

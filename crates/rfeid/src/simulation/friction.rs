@@ -1,0 +1,296 @@
+//! The friction law (SPEC §1) at one parameter point: its force as a
+//! function of the component's velocity v = δ̇, the force's slope in v (the
+//! sensitivities' Jacobian, eq. 27–28) and its derivatives with respect to
+//! each key, shared by the dense and the element-by-element kernels.
+//!
+//! `φ(v) = F(v) tanh(v / v_s)`, `F = F₀ (1 − e) + f_s e`,
+//! `F₀ = ½(f + f_neg) + ½(f − f_neg) tanh(v / v_s)`, `e = exp(−(v / v_s')²)`
+//! (e = 0 without Stribeck's peak). Every term is smooth in v and in the
+//! keys, so the integrator keeps its order through v = 0 and the criterion
+//! stays smooth in the parameters.
+use super::madd::Madd;
+use super::sparse::SparseComp;
+use super::structure::FrictionKey;
+use super::SimulationError;
+use crate::model::{Friction, Model};
+
+/// A friction law with numbers in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct FrictionForce {
+    /// `½(f + f_neg)`.
+    mean: f64,
+    /// `½(f − f_neg)`.
+    half: f64,
+    /// Whether f_neg is f itself (no `f_neg` key).
+    symmetric: bool,
+    /// Whether Stribeck's peak is present.
+    stribeck: bool,
+    /// The break-away force f_s.
+    fs: f64,
+    /// `1 / v_s'` (Stribeck's velocity).
+    inv_vs: f64,
+    /// `1 / v_s` (the smoothing velocity).
+    inv_s: f64,
+}
+
+/// A friction component of the kernels: its index in the component list
+/// ([`SparseComp`], whose rows it uses) and its law.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrictionRow {
+    /// The component's index.
+    pub comp: usize,
+    /// The law at the run's parameter values.
+    pub law: FrictionForce,
+}
+
+/// The terms every evaluation shares at velocity v.
+struct Terms {
+    /// `tanh(v / v_s)`.
+    t: f64,
+    /// Stribeck's `exp(−(v / v_s')²)`, 0 without it.
+    e: f64,
+    /// F₀(v).
+    f0: f64,
+    /// F(v).
+    f: f64,
+}
+
+impl FrictionForce {
+    /// The law `fr` at the parameter values `p`, refusing a negative force
+    /// or a velocity scale that is not positive (element `element`).
+    pub fn new(fr: &Friction, p: &[f64], element: &str) -> Result<Self, SimulationError> {
+        let bad = |key: &'static str, value: f64| SimulationError::BadFriction {
+            element: element.to_owned(),
+            key,
+            value,
+        };
+        let f = fr.f.eval(p);
+        let f_neg = fr.f_neg.map_or(f, |v| v.eval(p));
+        let s = fr.smoothing.eval(p);
+        let (fs, vs) = fr
+            .stribeck
+            .map_or((0.0, 1.0), |(a, b)| (a.eval(p), b.eval(p)));
+        for (key, value) in [("f", f), ("f_neg", f_neg), ("fs", fs)] {
+            if !(value >= 0.0) {
+                return Err(bad(key, value));
+            }
+        }
+        for (key, value) in [("smoothing", s), ("vs", vs)] {
+            if !(value > 0.0) {
+                return Err(bad(key, value));
+            }
+        }
+        Ok(FrictionForce {
+            mean: 0.5 * (f + f_neg),
+            half: 0.5 * (f - f_neg),
+            symmetric: fr.f_neg.is_none(),
+            stribeck: fr.stribeck.is_some(),
+            fs,
+            inv_vs: 1.0 / vs,
+            inv_s: 1.0 / s,
+        })
+    }
+
+    /// The terms at velocity v.
+    #[inline(always)]
+    fn terms(&self, v: f64) -> Terms {
+        let t = (v * self.inv_s).tanh();
+        let f0 = self.mean + self.half * t;
+        let (e, f) = match self.stribeck {
+            true => {
+                let x = v * self.inv_vs;
+                let e = (-x * x).exp();
+                (e, f0 + (self.fs - f0) * e)
+            }
+            false => (0.0, f0),
+        };
+        Terms { t, e, f0, f }
+    }
+
+    /// The force φ(v).
+    #[inline(always)]
+    pub fn force(&self, v: f64) -> f64 {
+        let Terms { t, f, .. } = self.terms(v);
+        f * t
+    }
+
+    /// `dφ/dv`: the component's tangent damping.
+    #[inline(always)]
+    pub fn slope(&self, v: f64) -> f64 {
+        let Terms { t, e, f0, f } = self.terms(v);
+        let dt = (1.0 - t * t) * self.inv_s;
+        let df0 = self.half * dt;
+        let df = match self.stribeck {
+            true => df0 * (1.0 - e) + (self.fs - f0) * (-2.0 * v * self.inv_vs * self.inv_vs * e),
+            false => df0,
+        };
+        df * t + f * dt
+    }
+
+    /// `∂φ/∂key` at velocity v.
+    #[inline(always)]
+    pub fn derivative(&self, key: FrictionKey, v: f64) -> f64 {
+        let Terms { t, e, f0, f } = self.terms(v);
+        match key {
+            FrictionKey::Coulomb if self.symmetric => (1.0 - e) * t,
+            FrictionKey::Coulomb => (1.0 - e) * t * 0.5 * (1.0 + t),
+            FrictionKey::CoulombNegative => (1.0 - e) * t * 0.5 * (1.0 - t),
+            FrictionKey::Static => e * t,
+            FrictionKey::StribeckVelocity => {
+                // ∂e/∂v_s' = 2 e v² / v_s'³.
+                let x = v * self.inv_vs;
+                (self.fs - f0) * t * 2.0 * e * x * x * self.inv_vs
+            }
+            FrictionKey::Smoothing => {
+                // ∂t/∂v_s = −(v / v_s²)(1 − t²); φ depends on t through F₀ too.
+                let dt = -v * self.inv_s * self.inv_s * (1.0 - t * t);
+                (f + t * (1.0 - e) * self.half) * dt
+            }
+        }
+    }
+}
+
+/// The friction components of `model`'s component rows (in order) with
+/// their laws at the parameter values `p`.
+pub(crate) fn friction_rows(
+    model: &Model,
+    components: &[super::structure::ComponentRow],
+    p: &[f64],
+) -> Result<Vec<FrictionRow>, SimulationError> {
+    let mut rows = Vec::new();
+    for (i, c) in components.iter().enumerate() {
+        if let crate::model::Law::Friction(fr) = &c.law {
+            let element = &model.elements[c.element].name;
+            rows.push(FrictionRow {
+                comp: i,
+                law: FrictionForce::new(fr, p, element)?,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// Adds each friction component's `φ(v) (−M⁻¹B_iᵀ)` to the accelerations
+/// `acc` for the velocities `v` (after either kernel, which carry the
+/// components' springs and dampers).
+#[inline(always)]
+pub(crate) fn friction_accel<M: Madd>(
+    comps: &[SparseComp],
+    frictions: &[FrictionRow],
+    v: &[f64],
+    acc: &mut [f64],
+) {
+    for fr in frictions {
+        let c = &comps[fr.comp];
+        let f = fr.law.force(c.rate::<M>(v));
+        let [o0, o1] = c.off;
+        // A ground element's second block has zero coefficients.
+        for i in 0..6 {
+            acc[o0 + i] = M::madd(f, c.g[i], acc[o0 + i]);
+        }
+        for i in 0..6 {
+            acc[o1 + i] = M::madd(f, c.g[6 + i], acc[o1 + i]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Value;
+
+    fn law(f_neg: Option<f64>, stribeck: Option<(f64, f64)>) -> (Friction, Vec<f64>) {
+        // Every key a parameter, so that each can be perturbed.
+        let p = vec![0.0, 40.0, f_neg.unwrap_or(0.0), 0.0, 0.0, 2e-3];
+        let mut p = p;
+        let stribeck = stribeck.map(|(fs, vs)| {
+            p[3] = fs;
+            p[4] = vs;
+            (Value::Param(3), Value::Param(4))
+        });
+        let fr = Friction {
+            k: Value::Param(0),
+            f: Value::Param(1),
+            f_neg: f_neg.map(|_| Value::Param(2)),
+            stribeck,
+            smoothing: Value::Param(5),
+        };
+        (fr, p)
+    }
+
+    /// The slope and every key's derivative against central differences.
+    #[test]
+    fn derivatives_match_central_differences() {
+        let keys = [
+            (FrictionKey::Coulomb, 1),
+            (FrictionKey::CoulombNegative, 2),
+            (FrictionKey::Static, 3),
+            (FrictionKey::StribeckVelocity, 4),
+            (FrictionKey::Smoothing, 5),
+        ];
+        for (f_neg, stribeck) in [
+            (None, None),
+            (Some(25.0), None),
+            (None, Some((60.0, 5e-3))),
+            (Some(25.0), Some((60.0, 5e-3))),
+        ] {
+            let (fr, p) = law(f_neg, stribeck);
+            let at = |p: &[f64]| FrictionForce::new(&fr, p, "e").unwrap();
+            let ff = at(&p);
+            for v in [-3e-2, -4e-3, -1e-3, -1e-4, 0.0, 2e-4, 1.5e-3, 6e-3, 5e-2] {
+                let h = 1e-7;
+                let fd = (ff.force(v + h) - ff.force(v - h)) / (2.0 * h);
+                let scale = 40.0 / 2e-3;
+                assert!((ff.slope(v) - fd).abs() <= 1e-6 * scale, "slope at {v}");
+                for &(key, i) in &keys {
+                    let used = match key {
+                        FrictionKey::CoulombNegative => f_neg.is_some(),
+                        FrictionKey::Static | FrictionKey::StribeckVelocity => stribeck.is_some(),
+                        _ => true,
+                    };
+                    if !used {
+                        continue;
+                    }
+                    let h = 1e-6 * p[i];
+                    let (mut up, mut down) = (p.clone(), p.clone());
+                    up[i] += h;
+                    down[i] -= h;
+                    let fd = (at(&up).force(v) - at(&down).force(v)) / (2.0 * h);
+                    let exact = ff.derivative(key, v);
+                    let tol = 1e-7 * (1.0 + fd.abs()) * (60.0 / p[i]).max(1.0);
+                    assert!(
+                        (exact - fd).abs() <= tol,
+                        "{key:?} at v = {v}: {exact} vs {fd}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Far from v = 0 the force is the Coulomb force of each side, and the
+    /// Stribeck peak has decayed; at v = 0 it is zero.
+    #[test]
+    fn limits_are_the_coulomb_forces() {
+        let (fr, p) = law(Some(25.0), Some((60.0, 5e-3)));
+        let ff = FrictionForce::new(&fr, &p, "e").unwrap();
+        assert_eq!(ff.force(0.0), 0.0);
+        assert!((ff.force(1.0) - 40.0).abs() < 1e-12);
+        assert!((ff.force(-1.0) + 25.0).abs() < 1e-12);
+        // Near v_s' the force exceeds the Coulomb force (the peak).
+        assert!(ff.force(4e-3) > 40.0);
+    }
+
+    /// A negative force or a velocity scale that is not positive is a bad
+    /// value, named.
+    #[test]
+    fn bad_values_are_refused() {
+        let (fr, mut p) = law(None, Some((60.0, 5e-3)));
+        p[5] = 0.0;
+        let e = FrictionForce::new(&fr, &p, "slide").unwrap_err();
+        assert!(e.is_bad_values());
+        assert!(e.to_string().contains("slide") && e.to_string().contains("smoothing"));
+        p[5] = 1e-3;
+        p[1] = -1.0;
+        assert!(FrictionForce::new(&fr, &p, "slide").is_err());
+    }
+}
