@@ -95,9 +95,9 @@ fn simulate_at(model: &Path, est: &HashMap<String, (f64, f64)>, out: &Path) -> V
 /// input repeated for four periods, the last compared) at most 5e-6 m, and
 /// on the sine sweep from rest at most 1e-5 m.
 ///
-/// Ignored: at the defaults the identification took over 10 minutes on the
-/// 2-core machine (not finished when stopped), far beyond CI's budget; run
-/// it with `cargo test --release -p rfeid-cli --test joint_laws -- --ignored`.
+/// Ignored in CI for its time (34 s on the 2-core machine, beside a build):
+/// run it with `cargo test --release -p rfeid-cli --test joint_laws --
+/// --ignored`.
 #[test]
 #[ignore]
 fn the_bouc_wen_benchmark_is_identified_and_tested_by_simulation() {
