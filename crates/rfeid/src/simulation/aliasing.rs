@@ -64,11 +64,20 @@ pub fn fastest_along_response(sim: &Simulator<'_>, params: &[f64]) -> Option<Fas
         }
     }
     let mut fastest: Option<FastestMode> = None;
+    // Components most deformed at the same sample share one eigenproblem.
+    let mut done: Vec<(usize, f64)> = Vec::new();
     for (&(k, _), comp) in most.iter().zip(&power) {
-        for (i, qi) in q.iter_mut().enumerate() {
-            *qi = q0[i] + path.values[i * samples + k];
-        }
-        let f = highest_frequency_at(&sys, &q);
+        let f = match done.iter().find(|(at, _)| *at == k) {
+            Some(&(_, f)) => f,
+            None => {
+                for (i, qi) in q.iter_mut().enumerate() {
+                    *qi = q0[i] + path.values[i * samples + k];
+                }
+                let f = highest_frequency_at(&sys, &q);
+                done.push((k, f));
+                f
+            }
+        };
         if f.is_finite() && fastest.as_ref().is_none_or(|m| f > m.frequency_hz) {
             fastest = Some(FastestMode {
                 frequency_hz: f,

@@ -8,6 +8,11 @@
 
 /// Where n comes from.
 pub(crate) trait Dim: Copy {
+    /// Whether the element-by-element kernels are compiled in. They serve
+    /// large models, so only [`Dynamic`] has them: a fixed size would only
+    /// repeat their code (and its compile time) for no model that uses it.
+    const SPARSE: bool;
+
     /// n, given the run-time value (which a fixed size must equal).
     fn n(runtime: usize) -> usize;
 }
@@ -21,6 +26,8 @@ pub(crate) struct Fixed<const N: usize>;
 pub(crate) struct Dynamic;
 
 impl<const N: usize> Dim for Fixed<N> {
+    const SPARSE: bool = false;
+
     #[inline(always)]
     fn n(runtime: usize) -> usize {
         debug_assert_eq!(runtime, N);
@@ -29,6 +36,8 @@ impl<const N: usize> Dim for Fixed<N> {
 }
 
 impl Dim for Dynamic {
+    const SPARSE: bool = true;
+
     #[inline(always)]
     fn n(runtime: usize) -> usize {
         runtime

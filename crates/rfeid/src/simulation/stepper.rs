@@ -108,39 +108,43 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     }
 
     /// Advances `y` (and `sy`) from t by h; stage 0 must hold `F(t, y)`.
+    ///
+    /// One loop over the step's pieces, so that the stages are compiled
+    /// once per kernel (each call site of an inlined stage is a copy of the
+    /// whole force and tangent code): the first pass is the trial step of
+    /// the state alone; if a power-law deformation changes sign in it, the
+    /// step is redone in pieces ending at the crossings.
     #[inline(always)]
     pub fn step(&self, ws: &mut Workspace, t: f64, h: f64, with_sens: bool) {
-        self.state_stages(ws, t, h);
-        if self.locate && self.find_crossings(ws, h) {
-            // Redo the step in pieces ending at the crossings.
-            let mut from = 0.0;
-            let mut i = 0;
-            while i <= ws.crossings.len() {
-                let to = if i < ws.crossings.len() {
-                    ws.crossings[i]
-                } else {
-                    1.0
-                };
-                let (ti, hi) = (t + from * h, (to - from) * h);
-                if i > 0 {
-                    self.first_stage(ws, ti, with_sens);
-                }
-                self.state_stages(ws, ti, hi);
-                if with_sens {
-                    self.sens_stages(ws, ti, hi);
-                }
-                std::mem::swap(&mut ws.y, &mut ws.y_new);
-                std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
-                from = to;
-                i += 1;
+        let mut split = false;
+        let (mut from, mut piece) = (0.0, 0);
+        loop {
+            let last = !split || piece == ws.crossings.len();
+            let to = if last { 1.0 } else { ws.crossings[piece] };
+            let (ti, hi) = match split {
+                true => (t + from * h, (to - from) * h),
+                false => (t, h),
+            };
+            if split && piece > 0 {
+                self.first_stage(ws, ti, with_sens);
             }
-            return;
+            self.state_stages(ws, ti, hi);
+            if !split && self.locate && self.find_crossings(ws, h) {
+                // Redo the step in pieces ending at the crossings.
+                split = true;
+                continue;
+            }
+            if with_sens {
+                self.sens_stages(ws, ti, hi);
+            }
+            std::mem::swap(&mut ws.y, &mut ws.y_new);
+            std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
+            if last {
+                return;
+            }
+            from = to;
+            piece += 1;
         }
-        if with_sens {
-            self.sens_stages(ws, t, h);
-        }
-        std::mem::swap(&mut ws.y, &mut ws.y_new);
-        std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
     }
 
     /// Stage i's derivative from stage state i.

@@ -302,7 +302,7 @@ impl<'a> System<'a> {
     ) {
         let n = D::n(self.n);
         let (y, acc) = (&y[..2 * n], &mut acc[..n]);
-        if self.sparse {
+        if D::SPARSE && self.sparse {
             let (g, loads) = (&self.base, &self.minv_load_blocks);
             let comps = (&self.groups[..], &self.powers[..]);
             sparse_accel::<M>(comps, g, loads, forces, y, acc);

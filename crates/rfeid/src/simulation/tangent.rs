@@ -192,7 +192,7 @@ impl Tangent {
         let (q, v) = y[..2 * n].split_at(n);
         let sy = &sy[..2 * n * width];
         let dacc = &mut dacc[..n * width];
-        if self.sparse {
+        if D::SPARSE && self.sparse {
             let columns = (
                 &self.component_usages[..],
                 &self.component_statics[..],
