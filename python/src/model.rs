@@ -202,7 +202,6 @@ impl PyModel {
 fn simulated_error(e: &SimulatedError) -> PyErr {
     match e {
         SimulatedError::Steps(s) => simulation_error("choosing the integrator's steps", s),
-        SimulatedError::Run(s) => simulation_error("simulation failed", s),
         _ => super::errors::option_text(e),
     }
 }

@@ -18,7 +18,7 @@ pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
 /// simulation as [`simulation_failure`] says, the rest bad input.
 pub fn simulation_failure_of(e: SimulatedError) -> Failure {
     match &e {
-        SimulatedError::Steps(s) | SimulatedError::Run(s) => simulation_failure_kind(s, &e),
+        SimulatedError::Steps(s) => simulation_failure_kind(s, &e),
         _ => Failure::input_msg(e),
     }
 }

@@ -4,8 +4,8 @@
 //! anti-alias filter leaves it; SPEC §3).
 use super::{add_filtered_noise, add_noise, check_noise, NoiseError};
 use crate::model::Model;
-use crate::simulation::{Response, SimulationError, Simulator, Workspace};
-use std::time::{Duration, Instant};
+use crate::simulation::{Response, SimulationError, Simulator};
+use std::time::Duration;
 
 /// Noise added to a simulated record.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,12 +28,10 @@ pub enum SimulatedError {
     /// A non-positive or non-finite corner frequency.
     #[error("--noise-corner {0}: must be a positive frequency in Hz")]
     Corner(f64),
-    /// The steps could not be chosen at these values.
+    /// The steps could not be chosen at these values, or the run at the
+    /// chosen steps (the record itself, which the choice computes) failed.
     #[error("choosing the integrator's steps: {0}")]
     Steps(SimulationError),
-    /// The run failed.
-    #[error("simulation failed: {0}")]
-    Run(SimulationError),
     /// The noise cannot be added to this record; `sensor` names the sensor
     /// concerned, if one is.
     #[error("--noise: {source}{}", sensor.as_ref().map(|s| format!(" ('{s}')")).unwrap_or_default())]
@@ -78,12 +76,10 @@ pub fn simulate_record<'m>(
     if let Some(n) = noise {
         check_spec(n)?;
     }
-    let sim = Simulator::choose(model, params).map_err(SimulatedError::Steps)?;
-    let mut response = sim.response_buffer();
-    let start = Instant::now();
-    sim.run(params, &mut Workspace::default(), &mut response)
-        .map_err(SimulatedError::Run)?;
-    let elapsed = start.elapsed();
+    // The step choice ends with the run at the chosen steps and `params`:
+    // that run is the record.
+    let (sim, (mut response, elapsed)) =
+        Simulator::choose_keeping(model, params).map_err(SimulatedError::Steps)?;
     if let Some(n) = noise {
         check_noise(&response, n.fraction).map_err(|source| {
             let sensor = match &source {

@@ -26,6 +26,7 @@ use super::step_choice::StepChoice;
 use super::workspace::Workspace;
 use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
 use crate::model::Model;
+use std::time::{Duration, Instant};
 
 pub use super::integrator::integrator;
 pub use super::modal::fastest_mode_hz;
@@ -85,11 +86,26 @@ fn run(
     substeps: usize,
     ws: &mut Workspace,
 ) -> Result<Response, SimulationError> {
+    Ok(timed_run(model, params, substeps, ws)?.0)
+}
+
+/// [`run`], with its wall time.
+fn timed_run(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+    ws: &mut Workspace,
+) -> Result<(Response, Duration), SimulationError> {
     let sim = Simulator::with_integrator(model, integrator(substeps));
     let mut out = sim.response_buffer();
+    let start = Instant::now();
     sim.run(params, ws, &mut out)?;
-    Ok(out)
+    Ok((out, start.elapsed()))
 }
+
+/// A response computed on the way to a step choice: the run at the chosen
+/// steps and the parameters of the choice, and its wall time.
+pub type ChosenRun = (Response, Duration);
 
 /// The estimated relative RMS error of the response at `params` with
 /// `substeps` steps per sample: its difference from the response with twice
@@ -99,10 +115,19 @@ pub fn estimate_error(
     params: &[f64],
     substeps: usize,
 ) -> Result<f64, SimulationError> {
+    Ok(estimate_error_keeping(model, params, substeps)?.0)
+}
+
+/// [`estimate_error`], with the run at `substeps`.
+fn estimate_error_keeping(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+) -> Result<(f64, ChosenRun), SimulationError> {
     let mut ws = Workspace::default();
-    let coarse = run(model, params, substeps, &mut ws)?;
+    let coarse = timed_run(model, params, substeps, &mut ws)?;
     let fine = run(model, params, 2 * substeps, &mut ws)?;
-    Ok(relative_difference(model, &coarse, &fine))
+    Ok((relative_difference(model, &coarse.0, &fine), coarse))
 }
 
 /// The fewest steps per sample, from `from` on, whose estimated error at
@@ -117,35 +142,46 @@ pub fn choose_steps(
     tolerance: f64,
     from: usize,
 ) -> Result<StepChoice, SimulationError> {
+    Ok(choose_steps_keeping(model, params, tolerance, from)?.0)
+}
+
+/// [`choose_steps`], with the run at the chosen steps.
+fn choose_steps_keeping(
+    model: &Model,
+    params: &[f64],
+    tolerance: f64,
+    from: usize,
+) -> Result<(StepChoice, ChosenRun), SimulationError> {
     let order = DEFAULT_TABLEAU.order as f64;
     let mut ws = Workspace::default();
     let mut s = from.clamp(1, MAX_SUBSTEPS);
     // A response already computed, with its step count.
-    let mut known: Option<(usize, Response)> = None;
+    let mut known: Option<(usize, ChosenRun)> = None;
     let mut runs = 0;
     loop {
         let coarse = match known.take() {
             Some((k, r)) if k == s => Ok(r),
             _ => {
                 runs += 1;
-                run(model, params, s, &mut ws)
+                timed_run(model, params, s, &mut ws)
             }
         };
         let fine = coarse.as_ref().map_err(Clone::clone).and_then(|_| {
             runs += 1;
-            run(model, params, 2 * s, &mut ws)
+            timed_run(model, params, 2 * s, &mut ws)
         });
         let outcome = match (coarse, fine) {
             (Ok(c), Ok(f)) => {
-                let e = relative_difference(model, &c, &f);
+                let e = relative_difference(model, &c.0, &f.0);
                 if e <= tolerance {
-                    return Ok(StepChoice {
+                    let choice = StepChoice {
                         substeps: s,
                         automatic: true,
                         tolerance,
                         estimated_error: Some(e),
                         runs,
-                    });
+                    };
+                    return Ok((choice, c));
                 }
                 known = Some((2 * s, f));
                 Ok(e)
@@ -205,20 +241,36 @@ impl<'m> Simulator<'m> {
     /// model fixes `substeps`, their error estimated) at `params`
     /// ([`super::steps::choose_steps`]).
     pub fn choose(model: &'m Model, params: &[f64]) -> Result<Self, SimulationError> {
+        Ok(Self::choose_keeping(model, params)?.0)
+    }
+
+    /// [`Simulator::choose`], with the response at `params` that the choice
+    /// computed on its way (the same, bit for bit, as
+    /// [`Simulator::run`] of the returned simulator at `params`) and that
+    /// run's wall time: a caller who wants that response need not simulate
+    /// it again.
+    pub fn choose_keeping(
+        model: &'m Model,
+        params: &[f64],
+    ) -> Result<(Self, ChosenRun), SimulationError> {
         let tolerance = model.sampling.tolerance;
-        let steps = match model.sampling.substeps {
-            Some(s) => StepChoice {
-                substeps: s.max(1),
-                automatic: false,
-                tolerance,
-                estimated_error: Some(estimate_error(model, params, s.max(1))?),
-                runs: 2,
-            },
-            None => choose_steps(model, params, tolerance, 1)?,
+        let (steps, chosen) = match model.sampling.substeps {
+            Some(s) => {
+                let (e, chosen) = estimate_error_keeping(model, params, s.max(1))?;
+                let choice = StepChoice {
+                    substeps: s.max(1),
+                    automatic: false,
+                    tolerance,
+                    estimated_error: Some(e),
+                    runs: 2,
+                };
+                (choice, chosen)
+            }
+            None => choose_steps_keeping(model, params, tolerance, 1)?,
         };
         let mut sim = Self::with_integrator(model, super::steps::integrator(steps.substeps));
         sim.steps = steps;
-        Ok(sim)
+        Ok((sim, chosen))
     }
 }
 
