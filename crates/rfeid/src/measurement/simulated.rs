@@ -1,7 +1,8 @@
 //! A simulated record, as `rfeid simulate` and the Python module's
-//! `Model.simulate` make it: the steps chosen at the parameter values, one
-//! run, and seeded noise if asked for (white, or low-pass filtered as an
-//! anti-alias filter leaves it; SPEC §3).
+//! `Model.simulate` make it: the steps chosen at the parameter values (the
+//! choice's own run at the chosen steps is the record), and seeded noise if
+//! asked for (white, or low-pass filtered as an anti-alias filter leaves
+//! it; SPEC §3).
 use super::{add_filtered_noise, add_noise, check_noise, NoiseError};
 use crate::model::Model;
 use crate::simulation::{Response, SimulationError, Simulator};

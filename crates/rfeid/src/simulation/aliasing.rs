@@ -9,7 +9,8 @@
 //! deformation is largest, the tangent stiffness `K_t(q)` gives the modes of
 //! the motion about that state, and the highest of them is compared with
 //! the Nyquist frequency. That costs one simulation without sensitivities
-//! and one small symmetric eigenproblem per power-law component.
+//! and one symmetric eigenvalue problem (values only) per distinct sample
+//! among those states.
 use super::equilibrium::static_equilibrium;
 use super::modal::{highest_frequency_at, modal_analysis};
 use super::simulator::Simulator;

@@ -291,7 +291,10 @@ impl<'a> System<'a> {
         self.accel_with::<Separate, Dynamic>(forces, y, scratch, acc)
     }
 
-    /// [`System::accel`] with a chosen multiply–add and size.
+    /// [`System::accel`] with a chosen multiply–add and size. The
+    /// element-by-element kernel is compiled only with n at run time
+    /// ([`Dim::SPARSE`]): a fixed size must not be given a system set to run
+    /// element by element.
     #[inline(always)]
     pub(crate) fn accel_with<M: Madd, D: Dim>(
         &self,

@@ -88,11 +88,11 @@ impl Tangent {
             return Tangent::empty(sys.sparse);
         }
         let (usages, others) = usages_by_component(sys.structure, wrt);
-        let usages_hysteresis = usages.clone();
+        let hysteresis = hysteresis_usages(sys, &usages);
         let width = wrt.len().next_multiple_of(4);
         if sys.sparse {
             let mut t = Tangent::sparse(sys, wrt.len(), width, usages, others);
-            t.hysteresis = hysteresis_usages(sys, &usages_hysteresis);
+            t.hysteresis = hysteresis;
             return t;
         }
         Tangent {
@@ -103,7 +103,7 @@ impl Tangent {
             component_usages: Vec::new(),
             component_statics: Vec::new(),
             component_entries: Vec::new(),
-            hysteresis: hysteresis_usages(sys, &usages_hysteresis),
+            hysteresis,
         }
     }
 
@@ -174,7 +174,8 @@ impl Tangent {
 
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
     /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows).
-    /// `scratch` has [`Self::scratch_len`].
+    /// `scratch` has [`Self::scratch_len`]. As for [`System::accel_with`],
+    /// a fixed size D must not be given an element-by-element system.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn apply<M: Madd, D: Dim>(

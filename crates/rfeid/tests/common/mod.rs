@@ -12,6 +12,43 @@ pub fn model(text: &str) -> Model {
     parse_model(text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The five-point central difference `(y(x−2h) − 8 y(x−h) + 8 y(x+h) −
+/// y(x+2h)) / 12h` of the response of `sim` to parameter `p` at `x`: the
+/// reference for the sensitivities (error O(h⁴)).
+pub fn five_point(
+    sim: &Simulator<'_>,
+    ws: &mut Workspace,
+    x: &[f64],
+    p: usize,
+    h: f64,
+) -> Vec<f64> {
+    let mut at = |offset: f64| {
+        let mut xp = x.to_vec();
+        xp[p] += offset * h;
+        let mut y = sim.response_buffer();
+        sim.run(&xp, ws, &mut y).unwrap();
+        y.values
+    };
+    let (a, b, c, d) = (at(-2.0), at(-1.0), at(1.0), at(2.0));
+    (0..a.len())
+        .map(|i| (a[i] - 8.0 * b[i] + 8.0 * c[i] - d[i]) / (12.0 * h))
+        .collect()
+}
+
+/// Asserts that the sensitivity columns of the dense kernel (the first half
+/// of `columns`) and the element-by-element one (the second half, in the
+/// same order) agree to 1e-9 of each column's RMS.
+pub fn assert_kernels_agree(what: &str, columns: &[Vec<f64>]) {
+    let half = columns.len() / 2;
+    for (dense, sparse) in columns[..half].iter().zip(&columns[half..]) {
+        let diff: Vec<f64> = dense.iter().zip(sparse).map(|(a, b)| a - b).collect();
+        assert!(
+            max_abs(&diff) <= 1e-9 * rms(dense),
+            "{what}: the kernels differ"
+        );
+    }
+}
+
 /// Simulates `model` at `params` with the integrator `integrator` (or the
 /// model's own settings).
 pub fn simulate(model: &Model, params: &[f64], integrator: Option<Integrator>) -> Response {
