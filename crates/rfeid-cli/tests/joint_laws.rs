@@ -265,44 +265,25 @@ fn bouc_wen_round_trips_land_within_three_standard_errors() {
     assert!(free_n.contains("value = 0.12\n") && free_n.contains("value = -0.165\n"));
     let free_n_path = dir.join("model-n.toml");
     std::fs::write(&free_n_path, free_n).unwrap();
+    let benchmark = vec![
+        ("k", 5e4),
+        ("c", 10.0),
+        ("alpha", 5e4),
+        ("gamma", 0.8),
+        ("d", -1.1),
+    ];
+    let nu_free = vec![
+        ("k", 5e4),
+        ("c", 10.0),
+        ("alpha", 5e4),
+        ("gamma", 0.12),
+        ("d", -0.165),
+        ("n", 1.5),
+    ];
     let cases = [
-        (
-            "nu = 1",
-            &base,
-            1,
-            vec![
-                ("k", 5e4),
-                ("c", 10.0),
-                ("alpha", 5e4),
-                ("gamma", 0.8),
-                ("d", -1.1),
-            ],
-        ),
-        (
-            "nu = 1",
-            &base,
-            2,
-            vec![
-                ("k", 5e4),
-                ("c", 10.0),
-                ("alpha", 5e4),
-                ("gamma", 0.8),
-                ("d", -1.1),
-            ],
-        ),
-        (
-            "nu = 1.5",
-            &free_n_path,
-            1,
-            vec![
-                ("k", 5e4),
-                ("c", 10.0),
-                ("alpha", 5e4),
-                ("gamma", 0.12),
-                ("d", -0.165),
-                ("n", 1.5),
-            ],
-        ),
+        ("nu = 1", &base, 1, &benchmark),
+        ("nu = 1", &base, 2, &benchmark),
+        ("nu = 1.5", &free_n_path, 1, &nu_free),
     ];
     for (name, model, seed, truth) in cases {
         let data = dir.join(format!("data-{seed}-{}.csv", truth.len()));
@@ -316,7 +297,7 @@ fn bouc_wen_round_trips_land_within_three_standard_errors() {
         ok(identify(model, &data, &out).arg("-q"));
         let est = estimates(&out);
         assert_eq!(est.len(), truth.len(), "{name}: {est:?}");
-        for (p, value) in truth {
+        for &(p, value) in truth {
             let (e, s) = est[p];
             let z = (e - value) / s;
             eprintln!("{name}, seed {seed}: {p} = {e:.6e} ± {s:.2e} ({z:+.2} s.e.)");
