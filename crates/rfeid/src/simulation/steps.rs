@@ -15,7 +15,11 @@
 //! a few simulations: two (at 1 and 2 steps) when one step is enough, as on
 //! the knee–column benchmark at 10 kHz. A run that diverges counts as
 //! missing the tolerance, and the next s is at least four times larger and
-//! large enough that the fastest linearised mode has ωh ≤ 1.
+//! large enough that the fastest linearised mode has ωh ≤ 1. The runs at
+//! s and 2s are independent and run at the same time where a second thread
+//! is free; the run that meets the tolerance is kept
+//! ([`Simulator::choose_keeping`]), so a caller who wants the response there
+//! does not simulate it again.
 //!
 //! During an identification the choice is made once and held fixed (the
 //! criterion stays smooth), and checked again at the estimate
@@ -79,17 +83,8 @@ pub fn relative_difference(model: &Model, a: &Response, b: &Response) -> f64 {
     worst
 }
 
-/// Runs the model at `params` with `substeps` steps per sample.
-fn run(
-    model: &Model,
-    params: &[f64],
-    substeps: usize,
-    ws: &mut Workspace,
-) -> Result<Response, SimulationError> {
-    Ok(timed_run(model, params, substeps, ws)?.0)
-}
-
-/// [`run`], with its wall time.
+/// Runs the model at `params` with `substeps` steps per sample, and times
+/// the run.
 fn timed_run(
     model: &Model,
     params: &[f64],
@@ -101,6 +96,23 @@ fn timed_run(
     let start = Instant::now();
     sim.run(params, ws, &mut out)?;
     Ok((out, start.elapsed()))
+}
+
+/// The runs with `substeps` and twice as many steps per sample, at the same
+/// time where a second thread is free (each is independent of the other and
+/// of the threads, so the results are the same either way).
+fn run_pair(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+) -> (
+    Result<ChosenRun, SimulationError>,
+    Result<ChosenRun, SimulationError>,
+) {
+    rayon::join(
+        || timed_run(model, params, substeps, &mut Workspace::default()),
+        || timed_run(model, params, 2 * substeps, &mut Workspace::default()),
+    )
 }
 
 /// A response computed on the way to a step choice: the run at the chosen
@@ -124,10 +136,9 @@ fn estimate_error_keeping(
     params: &[f64],
     substeps: usize,
 ) -> Result<(f64, ChosenRun), SimulationError> {
-    let mut ws = Workspace::default();
-    let coarse = timed_run(model, params, substeps, &mut ws)?;
-    let fine = run(model, params, 2 * substeps, &mut ws)?;
-    Ok((relative_difference(model, &coarse.0, &fine), coarse))
+    let (coarse, fine) = run_pair(model, params, substeps);
+    let (coarse, fine) = (coarse?, fine?);
+    Ok((relative_difference(model, &coarse.0, &fine.0), coarse))
 }
 
 /// The fewest steps per sample, from `from` on, whose estimated error at
@@ -153,23 +164,22 @@ fn choose_steps_keeping(
     from: usize,
 ) -> Result<(StepChoice, ChosenRun), SimulationError> {
     let order = DEFAULT_TABLEAU.order as f64;
-    let mut ws = Workspace::default();
     let mut s = from.clamp(1, MAX_SUBSTEPS);
     // A response already computed, with its step count.
     let mut known: Option<(usize, ChosenRun)> = None;
     let mut runs = 0;
     loop {
-        let coarse = match known.take() {
-            Some((k, r)) if k == s => Ok(r),
-            _ => {
+        let (coarse, fine) = match known.take() {
+            Some((k, r)) if k == s => {
                 runs += 1;
-                timed_run(model, params, s, &mut ws)
+                let fine = timed_run(model, params, 2 * s, &mut Workspace::default());
+                (Ok(r), fine)
+            }
+            _ => {
+                runs += 2;
+                run_pair(model, params, s)
             }
         };
-        let fine = coarse.as_ref().map_err(Clone::clone).and_then(|_| {
-            runs += 1;
-            timed_run(model, params, 2 * s, &mut ws)
-        });
         let outcome = match (coarse, fine) {
             (Ok(c), Ok(f)) => {
                 let e = relative_difference(model, &c.0, &f.0);
@@ -278,6 +288,16 @@ impl<'m> Simulator<'m> {
 mod tests {
     use super::*;
     use crate::simulation::test_models;
+
+    /// Runs the model at `params` with `substeps` steps per sample.
+    fn run(
+        model: &Model,
+        params: &[f64],
+        substeps: usize,
+        ws: &mut Workspace,
+    ) -> Result<Response, SimulationError> {
+        Ok(timed_run(model, params, substeps, ws)?.0)
+    }
 
     /// The shared oscillator of natural frequency `f` Hz, driven at 30 Hz.
     fn oscillator(f: f64, rate: f64) -> Model {
