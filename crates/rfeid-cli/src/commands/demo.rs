@@ -5,7 +5,7 @@ use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing, WrittenNote};
 use crate::run::demo_case::{demo_data, demo_model, demo_title, reference_of};
 use crate::run::inputs::stepped;
-use crate::run::limits::check_limits;
+use crate::run::limits::{check_limits, start_threads};
 use crate::run::report::render;
 use crate::run::search::{options, run_search};
 use crate::run::show::json_conflict;
@@ -15,6 +15,8 @@ use rfeid::identification::result::IdentificationResult;
 /// Runs the command.
 pub fn run(mut args: DemoArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&options(&args.search, StartArg::Plan))?;
+    // Before the data are simulated (the step choice runs in parallel).
+    start_threads(args.search.threads)?;
     // The benchmark's boxes are narrow: no short-window start unless asked.
     args.search.window.get_or_insert(0.0);
     // The paper's equal weights (eq. 14) unless asked.

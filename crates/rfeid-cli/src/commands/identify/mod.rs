@@ -11,7 +11,7 @@ use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
 use crate::run::digest::input_digests;
 use crate::run::inputs::{fixed, load, load_data, stepped};
-use crate::run::limits::check_limits;
+use crate::run::limits::{check_limits, start_threads};
 use crate::run::report::render;
 use crate::run::search::{options, run_search_from};
 use crate::run::shard_arg::parse_shard;
@@ -24,6 +24,8 @@ use std::path::Path;
 /// Runs the command.
 pub fn run(args: IdentifyArgs, ui: &Ui) -> Result<(), Failure> {
     check_limits(&options(&args.search, args.start))?;
+    // Before any computation (see `start_threads`).
+    start_threads(args.search.threads)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
     if let Some((_, n)) = shard.filter(|&(_, n)| n > args.search.plan) {
         return Err(Failure::input_msg(format!(
