@@ -568,3 +568,23 @@ fn debris_of_a_killed_run_does_not_block_the_next_report() {
     assert!(finished(st));
     assert_eq!(temporaries(&dir), Vec::<String>::new());
 }
+
+/// `--threads` takes effect when the demo's data are simulated first: the
+/// step choice runs its two step counts in parallel, which used to start
+/// the default worker pool before the command started its own, so `demo
+/// --noise … --threads 1` failed with "could not start 1 worker threads".
+/// The estimates do not depend on the thread count.
+#[test]
+fn demo_threads_take_effect_after_its_data_are_simulated() {
+    let estimates = |threads: &str| {
+        let o = rfeid()
+            .args(["demo", "--plan", "8", "--noise", "0.02", "--seed", "3"])
+            .args(["-q", "--json", "--threads", threads])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "--threads {threads}: {}", flat(&o.stderr));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        r["parameters"].clone()
+    };
+    assert_eq!(estimates("1"), estimates("2"));
+}
