@@ -582,7 +582,11 @@ fn demo_threads_take_effect_after_its_data_are_simulated() {
             .args(["-q", "--json", "--threads", threads])
             .output()
             .unwrap();
-        assert!(o.status.success(), "--threads {threads}: {}", flat(&o.stderr));
+        assert!(
+            o.status.success(),
+            "--threads {threads}: {}",
+            flat(&o.stderr)
+        );
         let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
         r["parameters"].clone()
     };

@@ -16,6 +16,7 @@ use super::modal::{highest_frequency_at, modal_analysis};
 use super::simulator::Simulator;
 use super::workspace::Workspace;
 use crate::model::{Law, Shape, COMPONENT_NAMES};
+use rayon::prelude::*;
 
 /// The fastest mode of the model linearised along its response.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,21 +65,24 @@ pub fn fastest_along_response(sim: &Simulator<'_>, params: &[f64]) -> Option<Fas
             }
         }
     }
+    // Components most deformed at the same sample share one eigenproblem;
+    // those of distinct samples are independent, solved in parallel.
+    let mut distinct: Vec<usize> = most.iter().map(|m| m.0).collect();
+    distinct.sort_unstable();
+    distinct.dedup();
+    let highest: Vec<f64> = distinct
+        .par_iter()
+        .map(|&k| {
+            let q: Vec<f64> = (0..n)
+                .map(|i| q0[i] + path.values[i * samples + k])
+                .collect();
+            highest_frequency_at(&sys, &q)
+        })
+        .collect();
     let mut fastest: Option<FastestMode> = None;
-    // Components most deformed at the same sample share one eigenproblem.
-    let mut done: Vec<(usize, f64)> = Vec::new();
     for (&(k, _), comp) in most.iter().zip(&power) {
-        let f = match done.iter().find(|(at, _)| *at == k) {
-            Some(&(_, f)) => f,
-            None => {
-                for (i, qi) in q.iter_mut().enumerate() {
-                    *qi = q0[i] + path.values[i * samples + k];
-                }
-                let f = highest_frequency_at(&sys, &q);
-                done.push((k, f));
-                f
-            }
-        };
+        // k is among the distinct samples: its position there.
+        let f = highest[distinct.partition_point(|&d| d < k)];
         if f.is_finite() && fastest.as_ref().is_none_or(|m| f > m.frequency_hz) {
             fastest = Some(FastestMode {
                 frequency_hz: f,
@@ -104,7 +108,12 @@ pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
     let mut warnings = Vec::new();
     // Modes above the Nyquist frequency at rest: (how many, of how many
     // restrained ones, fastest, how many free ones at zero frequency).
-    let at_rest = modal_analysis(sim, params).ok().map(|modal| {
+    // The modes at rest and those along the response are independent.
+    let (modal, along) = rayon::join(
+        || modal_analysis(sim, params),
+        || fastest_along_response(sim, params),
+    );
+    let at_rest = modal.ok().map(|modal| {
         let above: Vec<f64> = modal
             .modes
             .iter()
@@ -125,7 +134,7 @@ pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
              {fastest:.1} Hz"
         )
     };
-    let along = fastest_along_response(sim, params)
+    let along = along
         .filter(|m| m.frequency_hz > nyquist)
         .filter(|m| at_rest.is_none_or(|r| m.frequency_hz > r.2));
     let what = match (along, at_rest.filter(|r| r.0 > 0)) {
