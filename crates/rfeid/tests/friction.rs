@@ -61,64 +61,17 @@ direction = [1, 0, 0]
 quantity = "acceleration"
 "#;
 
-/// The parameters, each added to a model that names it.
-const PARAMS: [(&str, &str); 8] = [
-    (
-        "m",
-        r#"name = "m"
-value = "20 kg"
-min = 10.0
-max = 40.0"#,
-    ),
-    (
-        "f",
-        r#"name = "f"
-value = "30 N"
-min = 10.0
-max = 60.0"#,
-    ),
-    (
-        "f_neg",
-        r#"name = "f_neg"
-value = "22 N"
-min = 10.0
-max = 60.0"#,
-    ),
-    (
-        "fs",
-        r#"name = "fs"
-value = "45 N"
-min = 20.0
-max = 90.0"#,
-    ),
-    (
-        "vs",
-        r#"name = "vs"
-value = "4 mm/s"
-min = 1e-3
-max = 1e-2"#,
-    ),
-    (
-        "smoothing",
-        r#"name = "smoothing"
-value = "0.5 mm/s"
-min = 1e-4
-max = 2e-3"#,
-    ),
-    (
-        "k",
-        r#"name = "k"
-value = "500 N/m"
-min = 100.0
-max = 1000.0"#,
-    ),
-    (
-        "c",
-        r#"name = "c"
-value = "40 N*s/m"
-min = 10.0
-max = 100.0"#,
-    ),
+/// The parameters (name, value, min, max), each added to a model that
+/// names it.
+const PARAMS: [(&str, &str, &str, &str); 8] = [
+    ("m", "20 kg", "10.0", "40.0"),
+    ("f", "30 N", "10.0", "60.0"),
+    ("f_neg", "22 N", "10.0", "60.0"),
+    ("fs", "45 N", "20.0", "90.0"),
+    ("vs", "4 mm/s", "1e-3", "1e-2"),
+    ("smoothing", "0.5 mm/s", "1e-4", "2e-3"),
+    ("k", "500 N/m", "100.0", "1000.0"),
+    ("c", "40 N*s/m", "10.0", "100.0"),
 ];
 
 /// The friction keys of each law variant.
@@ -148,9 +101,11 @@ fn friction_model(law: &str) -> Model {
 /// The model text with the parameters it names.
 fn with_parameters(text: String) -> String {
     let mut text = text;
-    for (name, block) in PARAMS {
+    for (name, value, min, max) in PARAMS {
         if text.contains(&format!("\"{name}\"")) {
-            text += &format!("\n[[parameter]]\n{block}\n");
+            text += &format!(
+                "\n[[parameter]]\nname = \"{name}\"\nvalue = \"{value}\"\nmin = {min}\nmax = {max}\n"
+            );
         }
     }
     text

@@ -148,6 +148,18 @@ pub struct Friction {
 }
 
 impl Law {
+    /// The linear spring constant of this law at the parameter values `p`:
+    /// k of a linear spring, and the parallel k of friction and Bouc–Wen
+    /// laws; `None` for the others.
+    pub fn linear_stiffness(&self, p: &[f64]) -> Option<f64> {
+        match self {
+            Law::Linear { k } => Some(k.eval(p)),
+            Law::Friction(fr) => Some(fr.k.eval(p)),
+            Law::BoucWen(bw) => Some(bw.k.eval(p)),
+            Law::None | Law::Power { .. } => None,
+        }
+    }
+
     /// The power-law spring of this law at the parameter values `p`, if it
     /// is one.
     #[inline]

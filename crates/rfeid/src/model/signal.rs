@@ -110,17 +110,15 @@ impl Shape {
                 }
             }
             Shape::Constant => f64::from(u8::from(t >= 0.0)),
+            // Zero outside the table's span.
             Shape::Table {
                 times,
                 values,
-                interpolation: Interpolation::Linear,
-            } => interpolate(times, values, t),
-            Shape::Table {
-                times,
-                interpolation: Interpolation::BandLimited(b),
-                ..
+                interpolation,
             } => match (times.first(), times.last()) {
-                (Some(&first), Some(&last)) if (first..=last).contains(&t) => b.at(t),
+                (Some(&first), Some(&last)) if (first..=last).contains(&t) => {
+                    table_value(times, values, interpolation, t)
+                }
                 _ => 0.0,
             },
         }

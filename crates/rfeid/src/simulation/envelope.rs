@@ -81,6 +81,18 @@ impl Ordering {
         Ordering { perm: order, first }
     }
 
+    /// Where each row of a factor within the envelope starts when the rows
+    /// (`first_i ..= i`) are stored one after another; the last entry is the
+    /// number of stored entries.
+    fn row_starts(&self) -> Vec<usize> {
+        let mut start = Vec::with_capacity(self.first.len() + 1);
+        start.push(0);
+        for (i, &f) in self.first.iter().enumerate() {
+            start.push(start[i] + i + 1 - f);
+        }
+        start
+    }
+
     /// The number of stored entries of the factor.
     #[cfg(test)]
     pub fn envelope_size(&self) -> usize {
@@ -105,11 +117,7 @@ impl<'o> EnvelopeCholesky<'o> {
     pub fn factor(ordering: &'o Ordering, a: &[f64]) -> Option<EnvelopeCholesky<'o>> {
         let (perm, first) = (&ordering.perm, &ordering.first);
         let n = perm.len();
-        let mut start = Vec::with_capacity(n + 1);
-        start.push(0);
-        for i in 0..n {
-            start.push(start[i] + i + 1 - first[i]);
-        }
+        let start = ordering.row_starts();
         let mut values = vec![0.0; start[n]];
         for i in 0..n {
             let (fi, si) = (first[i], start[i]);
@@ -182,11 +190,7 @@ impl<'o> EnvelopeCholesky<'o> {
 pub(crate) fn null_space(ordering: &Ordering, a: &[f64], tol: f64) -> Option<Vec<Vec<f64>>> {
     let (perm, first) = (&ordering.perm, &ordering.first);
     let n = perm.len();
-    let mut start = Vec::with_capacity(n + 1);
-    start.push(0);
-    for i in 0..n {
-        start.push(start[i] + i + 1 - first[i]);
-    }
+    let start = ordering.row_starts();
     // Row i holds L[i][first_i .. i] and D_i in place of the unit diagonal.
     let mut values = vec![0.0; start[n]];
     let mut dropped = vec![false; n];

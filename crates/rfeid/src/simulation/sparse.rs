@@ -39,8 +39,8 @@ pub(crate) struct SparseComp {
 }
 
 impl SparseComp {
-    /// `B_i x` for a vector of coordinates x (the velocities give δ̇), in
-    /// two partial sums, one per block.
+    /// `B_i x` for a vector of coordinates x (the coordinates give δ, the
+    /// velocities δ̇), in two partial sums, one per block.
     #[inline(always)]
     pub fn rate<M: Madd>(&self, x: &[f64]) -> f64 {
         let [o0, o1] = self.off;

@@ -88,13 +88,7 @@ pub(crate) fn sparse_tangent<M: Madd>(
     dacc.fill(0.0);
     let per_component = usages.iter().zip(statics).zip(entries);
     for (comp, ((usages, statics), entries)) in sys.comps.iter().zip(per_component) {
-        let [o0, o1] = comp.off;
-        let mut d = [0.0; 2];
-        for i in 0..6 {
-            d[0] = M::madd(comp.b[i], q[o0 + i], d[0]);
-            d[1] = M::madd(comp.b[6 + i], q[o1 + i], d[1]);
-        }
-        let d = d[0] + d[1];
+        let d = comp.rate::<M>(q);
         let power = comp.power(&sys.powers);
         let (slope, change) = match power {
             Some(&SparsePower { spring: p, pre }) => {

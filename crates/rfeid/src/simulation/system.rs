@@ -125,12 +125,7 @@ impl<'a> System<'a> {
             .collect();
         let (comps, powers) = sparse_components(structure, &minv, |i| {
             let comp = &structure.components[i];
-            let k = match comp.law {
-                Law::Linear { k } => k.eval(params),
-                Law::Friction(fr) => fr.k.eval(params),
-                Law::BoucWen(bw) => bw.k.eval(params),
-                _ => 0.0,
-            };
+            let k = comp.law.linear_stiffness(params).unwrap_or(0.0);
             (k, comp.damping.eval(params), comp.law.power_spring(params))
         });
         let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
@@ -514,11 +509,11 @@ fn component_matrices(
         if damping != 0.0 {
             add_outer(&mut c, n, &comp.row, damping);
         }
+        if let Some(kv) = comp.law.linear_stiffness(params) {
+            add_outer(&mut k, n, &comp.row, kv);
+        }
         match comp.law {
-            Law::None => {}
-            Law::Linear { k: kv } => add_outer(&mut k, n, &comp.row, kv.eval(params)),
-            Law::Friction(fr) => add_outer(&mut k, n, &comp.row, fr.k.eval(params)),
-            Law::BoucWen(bw) => add_outer(&mut k, n, &comp.row, bw.k.eval(params)),
+            Law::None | Law::Linear { .. } | Law::Friction(_) | Law::BoucWen(_) => {}
             Law::Power { m, .. } => {
                 let m = m.eval(params);
                 if !(m >= 1.0) {
