@@ -1,6 +1,6 @@
 //! The derivative of a component's force with respect to one parameter
 //! ([`force_derivative`]), shared by the dense and the sparse tangents.
-use super::friction::FrictionForce;
+use super::friction::FrictionAt;
 use super::preload::{exponent_change, power_change, Preload};
 use super::structure::Usage;
 use crate::model::PowerSpring;
@@ -8,13 +8,13 @@ use crate::model::PowerSpring;
 /// `∂f_i/∂x` of a component's force `f_i = k δ + a sign(δ)|δ|^m + c δ̇`
 /// (eq. 2–7) for the parameter x used as `usage`, at deformation `d` from
 /// the static deformation `pre` (`preload`), as its change from there;
-/// `rate` gives δ̇ (computed only for a damping or a friction key). `power`
-/// is the component's power-law spring (always present for a power-law
-/// usage), `friction` its friction law (likewise).
+/// `rate` gives δ̇ (computed only for a damping key). `power` is the
+/// component's power-law spring (always present for a power-law usage),
+/// `friction` its friction law at δ̇ (likewise).
 #[inline(always)]
 pub(super) fn force_derivative(
     usage: Usage,
-    (power, friction): (Option<PowerSpring>, Option<&FrictionForce>),
+    (power, friction): (Option<PowerSpring>, Option<&FrictionAt<'_>>),
     pre: &Preload,
     d: f64,
     rate: impl FnOnce() -> f64,
@@ -25,8 +25,9 @@ pub(super) fn force_derivative(
         (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_change(1.0, p.m, pre, d).0,
         (Usage::PowerExponent(_), Some(p)) => exponent_change(p, pre, d),
         (Usage::PowerCoefficient(_) | Usage::PowerExponent(_), None) => 0.0,
-        (Usage::Friction(_, key), _) => friction.map_or(0.0, |f| f.derivative(key, rate())),
-        // Bouc–Wen keys act through the internal state's rate (`hysteresis`).
+        (Usage::Friction(_, key), _) => friction.map_or(0.0, |f| f.derivative(key)),
+        // Bouc–Wen keys act through the internal state's rate (`hysteresis`)
+        // and are not passed here.
         (Usage::Hysteresis(..), _) => 0.0,
         (Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..), _) => 0.0,
     }

@@ -44,6 +44,7 @@ pub(crate) struct FrictionRow {
 }
 
 /// The terms every evaluation shares at velocity v.
+#[derive(Debug, Clone, Copy)]
 struct Terms {
     /// `tanh(v / v_s)`.
     t: f64,
@@ -107,21 +108,49 @@ impl FrictionForce {
         Terms { t, e, f0, f }
     }
 
+    /// The law at velocity v: its terms evaluated once, for the force, the
+    /// slope and the derivatives there.
+    #[inline(always)]
+    pub fn at(&self, v: f64) -> FrictionAt<'_> {
+        FrictionAt {
+            law: self,
+            v,
+            terms: self.terms(v),
+        }
+    }
+
     /// The force φ(v).
     #[inline(always)]
     pub fn force(&self, v: f64) -> f64 {
-        let Terms { t, f, .. } = self.terms(v);
+        self.at(v).force()
+    }
+}
+
+/// A friction law at one velocity ([`FrictionForce::at`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FrictionAt<'a> {
+    law: &'a FrictionForce,
+    v: f64,
+    terms: Terms,
+}
+
+impl FrictionAt<'_> {
+    /// The force φ(v).
+    #[inline(always)]
+    pub fn force(&self) -> f64 {
+        let Terms { t, f, .. } = self.terms;
         f * t
     }
 
     /// `dφ/dv`: the component's tangent damping.
     #[inline(always)]
-    pub fn slope(&self, v: f64) -> f64 {
-        let Terms { t, e, f0, f } = self.terms(v);
-        let dt = (1.0 - t * t) * self.inv_s;
-        let df0 = self.half * dt;
-        let df = match self.stribeck {
-            true => df0 * (1.0 - e) + (self.fs - f0) * (-2.0 * v * self.inv_vs * self.inv_vs * e),
+    pub fn slope(&self) -> f64 {
+        let (law, v) = (self.law, self.v);
+        let Terms { t, e, f0, f } = self.terms;
+        let dt = (1.0 - t * t) * law.inv_s;
+        let df0 = law.half * dt;
+        let df = match law.stribeck {
+            true => df0 * (1.0 - e) + (law.fs - f0) * (-2.0 * v * law.inv_vs * law.inv_vs * e),
             false => df0,
         };
         df * t + f * dt
@@ -129,22 +158,23 @@ impl FrictionForce {
 
     /// `∂φ/∂key` at velocity v.
     #[inline(always)]
-    pub fn derivative(&self, key: FrictionKey, v: f64) -> f64 {
-        let Terms { t, e, f0, f } = self.terms(v);
+    pub fn derivative(&self, key: FrictionKey) -> f64 {
+        let (law, v) = (self.law, self.v);
+        let Terms { t, e, f0, f } = self.terms;
         match key {
-            FrictionKey::Coulomb if self.symmetric => (1.0 - e) * t,
+            FrictionKey::Coulomb if law.symmetric => (1.0 - e) * t,
             FrictionKey::Coulomb => (1.0 - e) * t * 0.5 * (1.0 + t),
             FrictionKey::CoulombNegative => (1.0 - e) * t * 0.5 * (1.0 - t),
             FrictionKey::Static => e * t,
             FrictionKey::StribeckVelocity => {
                 // ∂e/∂v_s' = 2 e v² / v_s'³.
-                let x = v * self.inv_vs;
-                (self.fs - f0) * t * 2.0 * e * x * x * self.inv_vs
+                let x = v * law.inv_vs;
+                (law.fs - f0) * t * 2.0 * e * x * x * law.inv_vs
             }
             FrictionKey::Smoothing => {
                 // ∂t/∂v_s = −(v / v_s²)(1 − t²); φ depends on t through F₀ too.
-                let dt = -v * self.inv_s * self.inv_s * (1.0 - t * t);
-                (f + t * (1.0 - e) * self.half) * dt
+                let dt = -v * law.inv_s * law.inv_s * (1.0 - t * t);
+                (f + t * (1.0 - e) * law.half) * dt
             }
         }
     }
@@ -241,7 +271,10 @@ mod tests {
                 let h = 1e-7;
                 let fd = (ff.force(v + h) - ff.force(v - h)) / (2.0 * h);
                 let scale = 40.0 / 2e-3;
-                assert!((ff.slope(v) - fd).abs() <= 1e-6 * scale, "slope at {v}");
+                assert!(
+                    (ff.at(v).slope() - fd).abs() <= 1e-6 * scale,
+                    "slope at {v}"
+                );
                 for &(key, i) in &keys {
                     let used = match key {
                         FrictionKey::CoulombNegative => f_neg.is_some(),
@@ -256,7 +289,7 @@ mod tests {
                     up[i] += h;
                     down[i] -= h;
                     let fd = (at(&up).force(v) - at(&down).force(v)) / (2.0 * h);
-                    let exact = ff.derivative(key, v);
+                    let exact = ff.at(v).derivative(key);
                     let tol = 1e-7 * (1.0 + fd.abs()) * (60.0 / p[i]).max(1.0);
                     assert!(
                         (exact - fd).abs() <= tol,

@@ -76,38 +76,69 @@ impl BoucWenLaw {
         })
     }
 
-    /// `γ |v| |z|^(n−1) z + d v |z|^n`, the bracket of ż.
+    /// The law at velocity v and state z: the powers of |z| evaluated once,
+    /// for the rate, the slopes and the derivatives there.
     #[inline(always)]
-    fn bracket(&self, v: f64, z: f64) -> f64 {
-        let (p, _) = powers(z, self.n);
-        self.gamma * v.abs() * p.copysign(z) + self.d * v * p
+    pub fn at(&self, v: f64, z: f64) -> BoucWenAt<'_> {
+        BoucWenAt {
+            law: self,
+            v,
+            z,
+            powers: powers(z, self.n),
+        }
     }
 
     /// ż at velocity v and state z.
     #[inline(always)]
     pub fn rate(&self, v: f64, z: f64) -> f64 {
-        self.alpha * v - self.beta * self.bracket(v, z)
+        self.at(v, z).rate()
+    }
+}
+
+/// A Bouc–Wen law at one velocity and state ([`BoucWenLaw::at`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BoucWenAt<'a> {
+    law: &'a BoucWenLaw,
+    v: f64,
+    z: f64,
+    /// `(|z|^n, |z|^(n−1))`.
+    powers: (f64, f64),
+}
+
+impl BoucWenAt<'_> {
+    /// `γ |v| |z|^(n−1) z + d v |z|^n`, the bracket of ż.
+    #[inline(always)]
+    fn bracket(&self) -> f64 {
+        let (law, v, z, p) = (self.law, self.v, self.z, self.powers.0);
+        law.gamma * v.abs() * p.copysign(z) + law.d * v * p
+    }
+
+    /// ż.
+    #[inline(always)]
+    pub fn rate(&self) -> f64 {
+        self.law.alpha * self.v - self.law.beta * self.bracket()
     }
 
     /// `(∂ż/∂v, ∂ż/∂z)`.
     #[inline(always)]
-    pub fn slopes(&self, v: f64, z: f64) -> (f64, f64) {
-        let (p, q) = powers(z, self.n);
-        let dv = self.alpha - self.beta * (self.gamma * p.copysign(z) * sign(v) + self.d * p);
-        let dz = -self.beta * self.n * q * (self.gamma * v.abs() + self.d * v * sign(z));
+    pub fn slopes(&self) -> (f64, f64) {
+        let (law, v, z) = (self.law, self.v, self.z);
+        let (p, q) = self.powers;
+        let dv = law.alpha - law.beta * (law.gamma * p.copysign(z) * sign(v) + law.d * p);
+        let dz = -law.beta * law.n * q * (law.gamma * v.abs() + law.d * v * sign(z));
         (dv, dz)
     }
 
-    /// `∂ż/∂key` at velocity v and state z.
+    /// `∂ż/∂key`.
     #[inline(always)]
-    pub fn derivative(&self, key: HysteresisKey, v: f64, z: f64) -> f64 {
-        let (p, _) = powers(z, self.n);
+    pub fn derivative(&self, key: HysteresisKey) -> f64 {
+        let (law, v, z, p) = (self.law, self.v, self.z, self.powers.0);
         match key {
             HysteresisKey::Alpha => v,
-            HysteresisKey::Beta => -self.bracket(v, z),
-            HysteresisKey::Gamma => -self.beta * v.abs() * p.copysign(z),
-            HysteresisKey::D => -self.beta * v * p,
-            HysteresisKey::N => -self.beta * self.bracket(v, z) * log_abs(z),
+            HysteresisKey::Beta => -self.bracket(),
+            HysteresisKey::Gamma => -law.beta * v.abs() * p.copysign(z),
+            HysteresisKey::D => -law.beta * v * p,
+            HysteresisKey::N => -law.beta * self.bracket() * log_abs(z),
         }
     }
 }
@@ -198,8 +229,8 @@ pub(crate) fn hysteresis_tangent<M: Madd>(
         let c = &comps[row.comp];
         let yzj = &yz[j * width..(j + 1) * width];
         let out = &mut dz[j * width..(j + 1) * width];
-        let vel = c.rate::<M>(v);
-        let (sv, sz) = row.law.slopes(vel, z[j]);
+        let at = row.law.at(c.rate::<M>(v), z[j]);
+        let (sv, sz) = at.slopes();
         for (o, y) in out.iter_mut().zip(yzj) {
             *o = sz * y;
         }
@@ -215,7 +246,7 @@ pub(crate) fn hysteresis_tangent<M: Madd>(
             }
         }
         for &(col, key) in &usages[j] {
-            out[col] += row.law.derivative(key, vel, z[j]);
+            out[col] += at.derivative(key);
         }
     }
 }
@@ -241,7 +272,7 @@ mod tests {
         for n in [1.0, 1.5, 2.0] {
             let bw = law(n);
             for (v, z) in [(0.02, 3.0), (-0.03, 2.0), (0.01, -4.0), (-0.05, -1.5)] {
-                let (sv, sz) = bw.slopes(v, z);
+                let (sv, sz) = bw.at(v, z).slopes();
                 let h = 1e-6;
                 let fv = (bw.rate(v + h * v.abs(), z) - bw.rate(v - h * v.abs(), z))
                     / (2.0 * h * v.abs());
@@ -281,7 +312,7 @@ mod tests {
                         HysteresisKey::N => bw.n,
                     };
                     let fd = (at(h) - at(-h)) / (2.0 * h * x0);
-                    let exact = bw.derivative(key, v, z);
+                    let exact = bw.at(v, z).derivative(key);
                     let tol = 1e-6 * exact.abs().max(1e-3);
                     assert!(
                         (exact - fd).abs() <= tol,

@@ -11,7 +11,7 @@
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
 use super::force_derivative::force_derivative;
-use super::friction::FrictionForce;
+use super::friction::FrictionAt;
 use super::madd::Madd;
 use super::power_law::power_law;
 use super::preload::power_change;
@@ -102,9 +102,11 @@ pub(crate) fn sparse_tangent<M: Madd>(
             None => (comp.k, 0.0),
         };
         // A friction law's slope in δ̇ adds to the damping.
-        let friction = comp.friction.map(|j| &sys.frictions[j as usize].law);
-        let damp = match friction {
-            Some(fr) => comp.c + fr.slope(comp.rate::<M>(v)),
+        let friction = comp
+            .friction
+            .map(|j| sys.frictions[j as usize].law.at(comp.rate::<M>(v)));
+        let damp = match &friction {
+            Some(fr) => comp.c + fr.slope(),
             None => comp.c,
         };
         let explicit = Explicit {
@@ -134,8 +136,8 @@ pub(crate) fn sparse_tangent<M: Madd>(
 struct Explicit<'a> {
     /// The component's power-law spring, if any.
     power: Option<&'a SparsePower>,
-    /// The component's friction law, if any.
-    friction: Option<&'a FrictionForce>,
+    /// The component's friction law at its δ̇, if any.
+    friction: Option<FrictionAt<'a>>,
     /// (column, usage) of the parameters acting on the component.
     usages: &'a [(usize, Usage)],
     /// Its deformation (from the static one, if any).
@@ -173,7 +175,7 @@ fn component_columns<M: Madd, const W: usize>(
                 Some(p) => (Some(p.spring), p.pre),
                 None => (None, Preload::default()),
             };
-            let laws = (spring, e.friction);
+            let laws = (spring, e.friction.as_ref());
             s[col - c0] += force_derivative(usage, laws, &pre, d, || comp.rate::<M>(v));
         }
     }

@@ -88,7 +88,7 @@ impl Tangent {
             return Tangent::empty(sys.sparse);
         }
         let (usages, others) = usages_by_component(sys.structure, wrt);
-        let hysteresis = hysteresis_usages(sys, &usages);
+        let hysteresis = hysteresis_usages(sys, wrt);
         let width = wrt.len().next_multiple_of(4);
         if sys.sparse {
             let mut t = Tangent::sparse(sys, wrt.len(), width, usages, others);
@@ -233,16 +233,15 @@ impl Tangent {
             }
             let mut cached = None;
             let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
-            if let Some(fr) = &comp.friction {
-                let slope = fr.slope(rate());
-                if slope != 0.0 {
-                    for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
-                        axpy::<M>(slope * g[k], b, &mut row[n..]);
-                    }
+            let friction = comp.friction.as_ref().map(|fr| fr.at(rate()));
+            let slope = friction.as_ref().map_or(0.0, |fr| fr.slope());
+            if slope != 0.0 {
+                for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
+                    axpy::<M>(slope * g[k], b, &mut row[n..]);
                 }
             }
             for &(col, usage) in &comp.usages {
-                let laws = (comp.power, comp.friction.as_ref());
+                let laws = (comp.power, friction.as_ref());
                 let f = force_derivative(usage, laws, &comp.pre, d, &mut rate);
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
@@ -304,7 +303,9 @@ impl Tangent {
 type ColumnUsages = Vec<(usize, Usage)>;
 
 /// The usages of the parameters `wrt` (by column): per component row, and
-/// the others (masses, inertias, amplitudes).
+/// the others (masses, inertias, amplitudes). Bouc–Wen keys act through the
+/// internal state, not the component's force: they are in neither
+/// ([`hysteresis_usages`]).
 ///
 /// Usages per component first, so that the active components come in
 /// component order whatever the order of `wrt`: a column's explicit terms
@@ -319,8 +320,8 @@ fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsage
                 | Usage::Damping(i)
                 | Usage::PowerCoefficient(i)
                 | Usage::PowerExponent(i)
-                | Usage::Friction(i, _)
-                | Usage::Hysteresis(i, _) => usages[i].push((col, usage)),
+                | Usage::Friction(i, _) => usages[i].push((col, usage)),
+                Usage::Hysteresis(..) => {}
                 Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
                     others.push((col, usage))
                 }
@@ -330,22 +331,22 @@ fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsage
     (usages, others)
 }
 
-/// For each Bouc–Wen component of `sys`, the (column, key) of its
-/// parameters among the component usages `usages`.
-fn hysteresis_usages(
-    sys: &System<'_>,
-    usages: &[ColumnUsages],
-) -> Vec<Vec<(usize, HysteresisKey)>> {
+/// For each Bouc–Wen component of `sys`, the (column, key) of the
+/// parameters `wrt` acting on its law, in column order.
+fn hysteresis_usages(sys: &System<'_>, wrt: &[usize]) -> Vec<Vec<(usize, HysteresisKey)>> {
     sys.hysteresis
         .iter()
         .map(|row| {
-            usages[row.comp]
-                .iter()
-                .filter_map(|&(col, u)| match u {
-                    Usage::Hysteresis(_, key) => Some((col, key)),
-                    _ => None,
-                })
-                .collect()
+            let mut keys = Vec::new();
+            for (col, &p) in wrt.iter().enumerate() {
+                for &usage in &sys.structure.usages[p] {
+                    match usage {
+                        Usage::Hysteresis(i, key) if i == row.comp => keys.push((col, key)),
+                        _ => {}
+                    }
+                }
+            }
+            keys
         })
         .collect()
 }
