@@ -25,7 +25,7 @@ use common::*;
 use rfeid::model::Model;
 use rfeid::simulation::equilibrium::static_equilibrium;
 use rfeid::simulation::free::{free_directions, Motion};
-use rfeid::simulation::modal::modal_analysis;
+use rfeid::simulation::modal::{modal_analysis, rest_frequencies};
 use rfeid::simulation::steps::integrator;
 use rfeid::simulation::{Sensitivities, SimulationError, Simulator, Workspace};
 
@@ -268,6 +268,30 @@ fn a_damped_free_mass_under_a_constant_force_matches_its_closed_form() {
         let n = t.len();
         let computed: Vec<f64> = (0..n).map(|k| sens.values[k]).collect();
         assert_within("∂x/∂c", rel_max_err(&computed, &dx), 1e-7);
+    }
+}
+
+#[test]
+fn the_frequencies_alone_are_the_modal_analysis_ones() {
+    // `rest_frequencies` (eigenvalues only, for the Nyquist check) against
+    // the full modal analysis: the same frequencies, and the free mode
+    // counted as free.
+    for gravity in [None, Some([0.0, 0.0, -G])] {
+        let m = carriage(DAMPER, gravity);
+        let sim = Simulator::new(&m);
+        let modal = modal_analysis(&sim, &m.nominal()).unwrap();
+        let (mut alone, free) = rest_frequencies(&sim, &m.nominal()).unwrap();
+        alone.sort_by(f64::total_cmp);
+        let mut full: Vec<f64> = modal.modes.iter().map(|m| m.frequency_hz).collect();
+        full.sort_by(f64::total_cmp);
+        assert_eq!(alone.len(), full.len());
+        for (a, f) in alone.iter().zip(&full) {
+            assert!(
+                (a - f).abs() <= 1e-12 * full[5],
+                "{alone:?} against {full:?}"
+            );
+        }
+        assert_eq!(free, 1);
     }
 }
 

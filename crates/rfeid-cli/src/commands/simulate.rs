@@ -11,6 +11,9 @@ use rfeid::io::timeseries::write_csv_to;
 use rfeid::measurement::simulated::{simulate_record, NoiseSpec, Simulated};
 use rfeid::measurement::{rms, to_timeseries};
 use rfeid::model::Model;
+use rfeid::simulation::aliasing::{above_nyquist_after, modes_at_rest};
+use rfeid::simulation::steps::integrator;
+use rfeid::simulation::Simulator;
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
@@ -28,11 +31,18 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         corner: args.noise_corner,
         seed: args.seed,
     });
+    // The modes at rest for the Nyquist check are independent of the run:
+    // computed beside it.
+    let (simulated, rest) = rayon::join(
+        || simulate_record(&model, &params, noise.as_ref()),
+        || modes_at_rest(&Simulator::with_integrator(&model, integrator(1)), &params),
+    );
     let Simulated {
         sim,
         response: out,
         elapsed,
-    } = simulate_record(&model, &params, noise.as_ref()).map_err(simulation_failure_of)?;
+        peaks,
+    } = simulated.map_err(simulation_failure_of)?;
     let steps = sim.steps();
     let series = to_timeseries(&model, &out);
     let mut csv = Vec::new();
@@ -66,7 +76,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         args.output.display()
     ));
     ui.note(steps_note(&steps));
-    for w in rfeid::simulation::aliasing::above_nyquist(&sim, &params) {
+    for w in above_nyquist_after(&sim, &params, peaks.as_ref(), rest) {
         ui.note(format!("warning: {w}"));
     }
     for (c, s) in model.sensors.iter().enumerate() {

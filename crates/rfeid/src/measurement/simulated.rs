@@ -5,7 +5,11 @@
 //! it; SPEC §3).
 use super::{add_filtered_noise, add_noise, check_noise, NoiseError};
 use crate::model::Model;
-use crate::simulation::{Response, SimulationError, Simulator};
+#[cfg(doc)]
+use crate::simulation::aliasing::above_nyquist_after;
+use crate::simulation::aliasing::DeformationPeaks;
+use crate::simulation::steps::integrator;
+use crate::simulation::{Response, SampleView, SimulationError, Simulator};
 use std::time::Duration;
 
 /// Noise added to a simulated record.
@@ -53,6 +57,9 @@ pub struct Simulated<'m> {
     pub response: Response,
     /// Wall time of the run alone.
     pub elapsed: Duration,
+    /// Where the run deformed each power-law spring most (`None` without
+    /// them), for [`above_nyquist_after`] without another run.
+    pub peaks: Option<DeformationPeaks>,
 }
 
 /// Checks the noise's fraction (non-negative) and corner frequency
@@ -78,9 +85,16 @@ pub fn simulate_record<'m>(
         check_spec(n)?;
     }
     // The step choice ends with the run at the chosen steps and `params`:
-    // that run is the record.
+    // that run is the record, and the peaks are watched along it.
+    let mut peaks = DeformationPeaks::new(&Simulator::with_integrator(model, integrator(1)));
+    let mut watch = |at: &SampleView<'_>| {
+        if let Some(p) = peaks.as_mut() {
+            p.observe(at)
+        }
+    };
     let (sim, (mut response, elapsed)) =
-        Simulator::choose_keeping(model, params).map_err(SimulatedError::Steps)?;
+        Simulator::choose_watching(model, params, Some(&mut watch))
+            .map_err(SimulatedError::Steps)?;
     if let Some(n) = noise {
         check_noise(&response, n.fraction).map_err(|source| {
             let sensor = match &source {
@@ -103,5 +117,6 @@ pub fn simulate_record<'m>(
         sim,
         response,
         elapsed,
+        peaks,
     })
 }

@@ -11,9 +11,10 @@
 //! the Nyquist frequency. That costs one simulation without sensitivities
 //! and one symmetric eigenvalue problem (values only) per distinct sample
 //! among those states.
-use super::equilibrium::static_equilibrium;
-use super::modal::{highest_frequency_at, modal_analysis};
+use super::modal::{highest_frequency_at, rest_frequencies};
+use super::run::{SampleView, Span};
 use super::simulator::Simulator;
+use super::structure::Row;
 use super::workspace::Workspace;
 use crate::model::{Law, Shape, COMPONENT_NAMES};
 use rayon::prelude::*;
@@ -29,72 +30,128 @@ pub struct FastestMode {
     pub component: String,
 }
 
+/// The states along a run where each power-law deformation is largest,
+/// gathered sample by sample ([`DeformationPeaks::observe`], for example as
+/// the watcher of [`Simulator::choose_watching`]) so that no run is needed
+/// for them alone.
+#[derive(Debug, Clone)]
+pub struct DeformationPeaks {
+    /// The power-law components' indices in the structure.
+    components: Vec<usize>,
+    /// Their deformation rows.
+    rows: Vec<Row>,
+    /// Per component: the sample of its largest |δ| so far, and |δ| there.
+    most: Vec<(usize, f64)>,
+    /// The coordinates (from zero, not from the run's origin) at the
+    /// samples still in `most`.
+    states: Vec<(usize, Vec<f64>)>,
+    /// Scratch for them.
+    q: Vec<f64>,
+}
+
+impl DeformationPeaks {
+    /// A watcher for the runs of `sim`: `None` if the model has no
+    /// power-law springs.
+    pub fn new(sim: &Simulator<'_>) -> Option<Self> {
+        let structure = sim.structure();
+        let components: Vec<usize> = (0..structure.components.len())
+            .filter(|&i| matches!(structure.components[i].law, Law::Power { .. }))
+            .collect();
+        if components.is_empty() {
+            return None;
+        }
+        let rows = components
+            .iter()
+            .map(|&i| structure.components[i].row.clone())
+            .collect();
+        Some(DeformationPeaks {
+            most: vec![(0, -1.0); components.len()],
+            components,
+            rows,
+            q: vec![0.0; structure.n],
+            states: Vec::new(),
+        })
+    }
+
+    /// Takes a sample of the run; sample 0 starts over.
+    pub fn observe(&mut self, at: &SampleView<'_>) {
+        let k = at.sample;
+        if k == 0 {
+            self.most.iter_mut().for_each(|m| *m = (0, -1.0));
+            self.states.clear();
+        }
+        let n = self.q.len();
+        self.q.copy_from_slice(&at.y[..n]);
+        if !at.origin.is_empty() {
+            self.q.iter_mut().zip(at.origin).for_each(|(q, o)| *q += o);
+        }
+        let mut kept = false;
+        for (m, row) in self.most.iter_mut().zip(&self.rows) {
+            let d = row.dot(&self.q).abs();
+            if d > m.1 {
+                *m = (k, d);
+                kept = true;
+            }
+        }
+        if kept {
+            if self.states.len() > 2 * self.most.len() {
+                let most = &self.most;
+                self.states.retain(|(s, _)| most.iter().any(|m| m.0 == *s));
+            }
+            self.states.push((k, self.q.clone()));
+        }
+    }
+
+    /// The highest natural frequency of the model linearised at the
+    /// states found, at `params`: one symmetric eigenvalue problem (values
+    /// only) per distinct sample, solved in parallel.
+    pub fn fastest(&self, sim: &Simulator<'_>, params: &[f64]) -> Option<FastestMode> {
+        let model = sim.model();
+        let sys = sim.system(params).ok()?;
+        // Components most deformed at the same sample share one eigenproblem.
+        let states: Vec<&(usize, Vec<f64>)> = (self.states.iter())
+            .filter(|(s, _)| self.most.iter().any(|m| m.0 == *s))
+            .collect();
+        let highest: Vec<f64> = states
+            .par_iter()
+            .map(|(_, q)| highest_frequency_at(&sys, q))
+            .collect();
+        let mut fastest: Option<FastestMode> = None;
+        for (&(k, _), &comp) in self.most.iter().zip(&self.components) {
+            let Some(at) = states.iter().position(|s| s.0 == k) else {
+                continue;
+            };
+            let f = highest[at];
+            if f.is_finite() && fastest.as_ref().is_none_or(|m| f > m.frequency_hz) {
+                let comp = &sim.structure().components[comp];
+                fastest = Some(FastestMode {
+                    frequency_hz: f,
+                    time: model.sampling.time(k),
+                    component: format!(
+                        "{}/{}",
+                        model.elements[comp.element].name, COMPONENT_NAMES[comp.dof]
+                    ),
+                });
+            }
+        }
+        fastest
+    }
+}
+
 /// The highest natural frequency of the model linearised along its response
 /// at `params` (see the module documentation): `None` if the model has no
 /// power-law springs, or if the simulation fails (which reports itself).
 pub fn fastest_along_response(sim: &Simulator<'_>, params: &[f64]) -> Option<FastestMode> {
-    let model = sim.model();
-    let structure = sim.structure();
-    let power: Vec<_> = structure
-        .components
-        .iter()
-        .filter(|c| matches!(c.law, Law::Power { .. }))
-        .collect();
-    if power.is_empty() {
-        return None;
-    }
-    let sys = sim.system(params).ok()?;
-    let n = sys.n;
-    let q0 = match model.gravity {
-        Some(_) => static_equilibrium(&sys, &[]).ok()?.q,
-        None => vec![0.0; n],
+    let mut peaks = DeformationPeaks::new(sim)?;
+    let mut out = sim.response_buffer();
+    let mut watch = |at: &SampleView<'_>| peaks.observe(at);
+    let mut span = Span {
+        observer: Some(&mut watch),
+        ..Span::default()
     };
-    let path = sim.coordinates(params, &mut Workspace::default()).ok()?;
-    let samples = path.n_samples;
-    // The sample of largest |δ| for each power-law component.
-    let mut most = vec![(0usize, -1.0_f64); power.len()];
-    let mut q = q0.clone();
-    for k in 0..samples {
-        for (i, qi) in q.iter_mut().enumerate() {
-            *qi = q0[i] + path.values[i * samples + k];
-        }
-        for (m, comp) in most.iter_mut().zip(&power) {
-            let d = comp.row.dot(&q).abs();
-            if d > m.1 {
-                *m = (k, d);
-            }
-        }
-    }
-    // Components most deformed at the same sample share one eigenproblem;
-    // those of distinct samples are independent, solved in parallel.
-    let mut distinct: Vec<usize> = most.iter().map(|m| m.0).collect();
-    distinct.sort_unstable();
-    distinct.dedup();
-    let highest: Vec<f64> = distinct
-        .par_iter()
-        .map(|&k| {
-            let q: Vec<f64> = (0..n)
-                .map(|i| q0[i] + path.values[i * samples + k])
-                .collect();
-            highest_frequency_at(&sys, &q)
-        })
-        .collect();
-    let mut fastest: Option<FastestMode> = None;
-    for (&(k, _), comp) in most.iter().zip(&power) {
-        // k is among the distinct samples: its position there.
-        let f = highest[distinct.partition_point(|&d| d < k)];
-        if f.is_finite() && fastest.as_ref().is_none_or(|m| f > m.frequency_hz) {
-            fastest = Some(FastestMode {
-                frequency_hz: f,
-                time: model.sampling.time(k),
-                component: format!(
-                    "{}/{}",
-                    model.elements[comp.element].name, COMPONENT_NAMES[comp.dof]
-                ),
-            });
-        }
-    }
-    fastest
+    sim.run_span(params, &mut Workspace::default(), &mut out, &mut span)
+        .ok()?;
+    peaks.fastest(sim, params)
 }
 
 /// Warnings, in words, about content of the model's response at `params`
@@ -103,26 +160,69 @@ pub fn fastest_along_response(sim: &Simulator<'_>, params: &[f64]) -> Option<Fas
 /// frequencies. None if there is none (or if the modal analysis fails; the
 /// simulation reports that itself).
 pub fn above_nyquist(sim: &Simulator<'_>, params: &[f64]) -> Vec<String> {
+    let (rest, along) = rayon::join(
+        || modes_at_rest(sim, params),
+        || fastest_along_response(sim, params),
+    );
+    nyquist_warnings(sim, rest, along)
+}
+
+/// [`above_nyquist`] for the run whose deformation peaks are `peaks` (from
+/// [`DeformationPeaks::new`], watching a run at the same `params`) and with
+/// the modes at rest `rest` ([`modes_at_rest`] at `params`): no simulation
+/// or modal analysis of its own.
+pub fn above_nyquist_after(
+    sim: &Simulator<'_>,
+    params: &[f64],
+    peaks: Option<&DeformationPeaks>,
+    rest: Option<ModesAtRest>,
+) -> Vec<String> {
+    nyquist_warnings(sim, rest, peaks.and_then(|p| p.fastest(sim, params)))
+}
+
+/// What the Nyquist check needs of the modes at rest (or at the
+/// equilibrium under gravity): natural frequencies only, no shapes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModesAtRest {
+    /// The undamped natural frequencies, Hz (0 for zero-stiffness modes).
+    pub frequencies_hz: Vec<f64>,
+    /// How many of the zero ones are free, rigid-body motions.
+    pub free: usize,
+}
+
+/// The modes at rest at `params` for [`above_nyquist_after`]: `None` if
+/// the modal analysis fails (the simulation reports that itself).
+pub fn modes_at_rest(sim: &Simulator<'_>, params: &[f64]) -> Option<ModesAtRest> {
+    let (frequencies_hz, free) = rest_frequencies(sim, params).ok()?;
+    Some(ModesAtRest {
+        frequencies_hz,
+        free,
+    })
+}
+
+/// The warnings from the modes at rest and the fastest mode along the
+/// response.
+fn nyquist_warnings(
+    sim: &Simulator<'_>,
+    rest: Option<ModesAtRest>,
+    along: Option<FastestMode>,
+) -> Vec<String> {
     let model = sim.model();
     let nyquist = model.sampling.sample_rate / 2.0;
     let mut warnings = Vec::new();
     // Modes above the Nyquist frequency at rest: (how many, of how many
     // restrained ones, fastest, how many free ones at zero frequency).
-    // The modes at rest and those along the response are independent.
-    let (modal, along) = rayon::join(
-        || modal_analysis(sim, params),
-        || fastest_along_response(sim, params),
-    );
-    let at_rest = modal.ok().map(|modal| {
-        let above: Vec<f64> = modal
-            .modes
-            .iter()
-            .map(|m| m.frequency_hz)
+    let at_rest = rest.map(|rest| {
+        let above: Vec<f64> = (rest.frequencies_hz.into_iter())
             .filter(|f| *f > nyquist)
             .collect();
         let fastest = above.iter().cloned().fold(0.0, f64::max);
-        let free = modal.modes.iter().filter(|m| m.free.is_some()).count();
-        (above.len(), modal.modes.len() - free, fastest, free)
+        (
+            above.len(),
+            sim.structure().n - rest.free,
+            fastest,
+            rest.free,
+        )
     });
     let rest_text = |(above, of, fastest, free): (usize, usize, f64, usize)| {
         let aside = match free {

@@ -12,6 +12,7 @@ pub mod free;
 mod friction;
 mod hysteresis;
 mod integrator;
+mod lanczos;
 mod madd;
 pub mod modal;
 mod power_law;
@@ -36,6 +37,7 @@ mod workspace;
 
 pub use integrator::{Integrator, Kernel};
 pub use response::{Response, Sensitivities};
+pub use run::{SampleState, SampleView, Span};
 pub use simulator::Simulator;
 pub use step_choice::StepChoice;
 pub use workspace::Workspace;

@@ -105,6 +105,33 @@ pub fn modal_analysis(
     })
 }
 
+/// The natural frequencies (Hz) of the model linearised at rest (or at the
+/// equilibrium under gravity) at `params`, as [`modal_analysis`] gives them
+/// but from the eigenvalues alone, with how many of the zero ones are free
+/// directions: all a check against the Nyquist frequency needs, at a
+/// fraction of the cost.
+pub fn rest_frequencies(
+    sim: &Simulator<'_>,
+    params: &[f64],
+) -> Result<(Vec<f64>, usize), SimulationError> {
+    let sys = &sim.system(params)?;
+    let q = match sim.model().gravity {
+        Some(_) => static_equilibrium(sys, &[])?.q,
+        None => vec![0.0; sys.n],
+    };
+    let lam = mass_scaled_tangent(sys, &q).symmetric_eigenvalues();
+    let lam_max = lam.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let zero = lam.iter().filter(|&&v| v <= 1e-10 * lam_max).count();
+    let frequencies = lam
+        .iter()
+        .map(|&v| match v <= 1e-10 * lam_max {
+            true => 0.0,
+            false => v.sqrt() / (2.0 * std::f64::consts::PI),
+        })
+        .collect();
+    Ok((frequencies, free_directions(sys).len().min(zero)))
+}
+
 /// The zero-stiffness modes from the eigenvectors `zero` (mass-scaled
 /// coordinates) of the zero eigenvalues: first one per free direction,
 /// along it, then the rest of their span M-orthogonal to those. If the
@@ -181,11 +208,9 @@ fn mass_scaled_tangent(sys: &System<'_>, q: &[f64]) -> DMatrix<f64> {
 /// the coordinates `q` (any state, not only rest: a power-law spring
 /// stiffens as it deforms, eq. 2–6).
 pub fn highest_frequency_at(sys: &System<'_>, q: &[f64]) -> f64 {
-    // Eigenvalues only: the vectors would cost most of the work.
-    let lam = mass_scaled_tangent(sys, q)
-        .symmetric_eigenvalues()
-        .iter()
-        .fold(0.0_f64, |m, v| m.max(*v));
+    // The top of the spectrum only (Lanczos): a 300-coordinate model's
+    // dense eigenvalues cost several times as much.
+    let lam = super::lanczos::largest_eigenvalue(&mass_scaled_tangent(sys, q)).max(0.0);
     lam.sqrt() / (2.0 * std::f64::consts::PI)
 }
 

@@ -61,6 +61,20 @@ impl<'m> Simulator<'m> {
         out: &mut Response,
         sens: Option<&mut Vec<f64>>,
     ) -> Result<(), SimulationError> {
+        self.integrate_span(params, wrt, ws, out, sens, &mut Span::default())
+    }
+
+    /// [`Self::integrate`] over the samples of `span`, calling its
+    /// observer at each.
+    pub(super) fn integrate_span(
+        &self,
+        params: &[f64],
+        wrt: &[usize],
+        ws: &mut Workspace,
+        out: &mut Response,
+        sens: Option<&mut Vec<f64>>,
+        span: &mut Span<'_>,
+    ) -> Result<(), SimulationError> {
         let mut sys = self.system(params)?;
         sys.set_sparse(match self.kernel {
             Kernel::Auto => sys.prefers_sparse(),
@@ -80,15 +94,23 @@ impl<'m> Simulator<'m> {
             // library's build time.
             return unsafe {
                 match (sys.sparse, sys.n) {
-                    (false, 6) => self.integrate_avx2_fma::<Fixed<6>>(sys, wrt, ws, out, sens),
-                    (false, 12) => self.integrate_avx2_fma::<Fixed<12>>(sys, wrt, ws, out, sens),
-                    (false, 18) => self.integrate_avx2_fma::<Fixed<18>>(sys, wrt, ws, out, sens),
-                    (false, 24) => self.integrate_avx2_fma::<Fixed<24>>(sys, wrt, ws, out, sens),
-                    _ => self.integrate_avx2_fma::<Dynamic>(sys, wrt, ws, out, sens),
+                    (false, 6) => {
+                        self.integrate_avx2_fma::<Fixed<6>>(sys, wrt, ws, out, sens, span)
+                    }
+                    (false, 12) => {
+                        self.integrate_avx2_fma::<Fixed<12>>(sys, wrt, ws, out, sens, span)
+                    }
+                    (false, 18) => {
+                        self.integrate_avx2_fma::<Fixed<18>>(sys, wrt, ws, out, sens, span)
+                    }
+                    (false, 24) => {
+                        self.integrate_avx2_fma::<Fixed<24>>(sys, wrt, ws, out, sens, span)
+                    }
+                    _ => self.integrate_avx2_fma::<Dynamic>(sys, wrt, ws, out, sens, span),
                 }
             };
         }
-        self.integrate_generic::<Separate, Dynamic>(sys, wrt, ws, out, sens)
+        self.integrate_generic::<Separate, Dynamic>(sys, wrt, ws, out, sens, span)
     }
 
     /// [`Self::integrate_generic`] compiled for AVX2 with fused multiply–add
@@ -104,8 +126,9 @@ impl<'m> Simulator<'m> {
         ws: &mut Workspace,
         out: &mut Response,
         sens: Option<&mut Vec<f64>>,
+        span: &mut Span<'_>,
     ) -> Result<(), SimulationError> {
-        self.integrate_generic::<Fused, D>(sys, wrt, ws, out, sens)
+        self.integrate_generic::<Fused, D>(sys, wrt, ws, out, sens, span)
     }
 
     // long-fn: numerical kernel (the time-integration loop)
@@ -120,19 +143,25 @@ impl<'m> Simulator<'m> {
         ws: &mut Workspace,
         out: &mut Response,
         mut sens: Option<&mut Vec<f64>>,
+        span: &mut Span<'_>,
     ) -> Result<(), SimulationError> {
         let n = sys.n;
         let r = wrt.len();
         debug_assert!(D::SPARSE || !sys.sparse);
         let tab = &self.integrator.tableau;
         let sampling = self.model.sampling;
-        let n_samples = sampling.n_samples();
+        let first = span.start.as_ref().map_or(0, |s| s.sample);
+        let n_samples = span
+            .samples
+            .unwrap_or(usize::MAX)
+            .min(sampling.n_samples().saturating_sub(first));
         let n_sensors = self.structure.sensors.len();
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
-        if r == 0 {
-            // Sensitivities to nothing: an empty matrix, and a plain run.
+        if r == 0 || span.start.is_some() {
+            // Sensitivities to nothing (or from a state without them): an
+            // empty matrix, and a plain run.
             sens = None;
         }
         let wrt = if sens.is_some() { wrt } else { &[] };
@@ -140,8 +169,14 @@ impl<'m> Simulator<'m> {
         // and integrates the deviation from it (`preload`): the state and
         // the sensitivities start at zero.
         if self.model.gravity.is_some() {
-            let eq = static_equilibrium(&sys, wrt)?;
-            sys.set_reference(&eq.q, eq.dq);
+            match span.equilibrium.as_deref().filter(|_| wrt.is_empty()) {
+                Some(q) => sys.set_reference(q, Vec::new()),
+                None => {
+                    let eq = static_equilibrium(&sys, wrt)?;
+                    sys.set_reference(&eq.q, eq.dq);
+                    span.equilibrium = Some(eq.q);
+                }
+            }
         }
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
@@ -152,8 +187,12 @@ impl<'m> Simulator<'m> {
             false => (0, 0),
         };
         ws.prepare(&sys, tab.stages(), (width, scratch), st.sine_terms());
+        if let Some(start) = &span.start {
+            ws.y.copy_from_slice(&start.y);
+            ws.z.y.copy_from_slice(&start.z);
+        }
 
-        let total_steps = n_samples.saturating_sub(1) * substeps;
+        let total_steps = (first + n_samples.saturating_sub(1)) * substeps;
         let bps = &self.breakpoints;
         let margin = 1e-9 * h;
         let mut next_bp = 0;
@@ -162,7 +201,7 @@ impl<'m> Simulator<'m> {
         // and, between them, the excitation's breakpoints, where a step is
         // split (fixed instants, so the response stays smooth in the
         // parameters).
-        let (mut step, mut from, mut on_grid) = (0, 0.0, true);
+        let (mut step, mut from, mut on_grid) = (first * substeps, 0.0, true);
         loop {
             let t = match on_grid {
                 true => step as f64 * h,
@@ -171,7 +210,7 @@ impl<'m> Simulator<'m> {
             st.first_stage(ws, t, with_sens);
             if on_grid {
                 if step % substeps == 0 {
-                    let k = step / substeps;
+                    let k = step / substeps - first;
                     if ws.y.iter().any(|v| !(v.abs() < BLOW_UP)) {
                         return Err(self.diverged(&sys.params, t, substeps));
                     }
@@ -193,6 +232,14 @@ impl<'m> Simulator<'m> {
                             (r, width),
                             s,
                         );
+                    }
+                    if let Some(observe) = span.observer.as_mut() {
+                        observe(&SampleView {
+                            sample: first + k,
+                            origin: span.equilibrium.as_deref().unwrap_or(&[]),
+                            y: &ws.y,
+                            z: &ws.z.y,
+                        });
                     }
                 }
                 if step == total_steps {
@@ -222,6 +269,52 @@ impl<'m> Simulator<'m> {
         }
         Ok(())
     }
+}
+
+/// A state of the motion at a sample: `y = [q; q̇]` (q measured from the
+/// initial rest or equilibrium position) and the internal states z.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampleState {
+    /// The sample's index in the record.
+    pub sample: usize,
+    /// `[q; q̇]`, 2n values.
+    pub y: Vec<f64>,
+    /// The Bouc–Wen internal states (empty without them).
+    pub z: Vec<f64>,
+}
+
+/// A sample of a run as its watcher sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct SampleView<'a> {
+    /// The sample's index in the record.
+    pub sample: usize,
+    /// The coordinates the run starts from and measures q from: the static
+    /// equilibrium under gravity; empty for rest at zero.
+    pub origin: &'a [f64],
+    /// `[q; q̇]`, 2n values.
+    pub y: &'a [f64],
+    /// The Bouc–Wen internal states (empty without them).
+    pub z: &'a [f64],
+}
+
+/// What part of the record a run covers, and who watches it. The default is
+/// the whole record from rest, unobserved.
+#[derive(Default)]
+pub struct Span<'a> {
+    /// Under gravity, the static equilibrium the run starts from (q
+    /// measured from it): if given, it is used for a run without
+    /// sensitivities instead of being solved for; otherwise the run leaves
+    /// the one it solved here.
+    pub equilibrium: Option<Vec<f64>>,
+    /// Where the run starts: the state at a sample (then without
+    /// sensitivities); `None` for rest (or the static equilibrium) at the
+    /// first sample.
+    pub start: Option<SampleState>,
+    /// How many samples to record from the start (at most to the record's
+    /// end); `None` for all of them.
+    pub samples: Option<usize>,
+    /// Called at each sample.
+    pub observer: Option<&'a mut (dyn FnMut(&SampleView<'_>) + Send)>,
 }
 
 impl Simulator<'_> {
@@ -321,11 +414,13 @@ mod tests {
     #[test]
     fn fixed_size_kernels_equal_the_run_time_size_ones_bit_for_bit() {
         let fixed = knee_column_with(|sim, p, wrt, ws, out, s| {
-            sim.integrate_generic::<Separate, Fixed<12>>(dense(sim, p), wrt, ws, out, Some(s))
+            let span = &mut Span::default();
+            sim.integrate_generic::<Separate, Fixed<12>>(dense(sim, p), wrt, ws, out, Some(s), span)
                 .expect("runs")
         });
         let dynamic = knee_column_with(|sim, p, wrt, ws, out, s| {
-            sim.integrate_generic::<Separate, Dynamic>(dense(sim, p), wrt, ws, out, Some(s))
+            let span = &mut Span::default();
+            sim.integrate_generic::<Separate, Dynamic>(dense(sim, p), wrt, ws, out, Some(s), span)
                 .expect("runs")
         });
         assert!(fixed == dynamic);
@@ -335,6 +430,7 @@ mod tests {
             // SAFETY: the CPU supports AVX2 and FMA, checked just above.
             let fused = |fixed: bool| {
                 knee_column_with(|sim, p, wrt, ws, out, s| unsafe {
+                    let span = &mut Span::default();
                     match fixed {
                         true => sim.integrate_avx2_fma::<Fixed<12>>(
                             dense(sim, p),
@@ -342,9 +438,11 @@ mod tests {
                             ws,
                             out,
                             Some(s),
+                            span,
                         ),
                         false => {
-                            sim.integrate_avx2_fma::<Dynamic>(dense(sim, p), wrt, ws, out, Some(s))
+                            let sys = dense(sim, p);
+                            sim.integrate_avx2_fma::<Dynamic>(sys, wrt, ws, out, Some(s), span)
                         }
                     }
                     .expect("runs")
@@ -357,7 +455,8 @@ mod tests {
     #[test]
     fn fused_kernels_agree_with_the_portable_ones_to_rounding() {
         let portable = knee_column_with(|sim, p, wrt, ws, out, s| {
-            sim.integrate_generic::<Separate, Dynamic>(dense(sim, p), wrt, ws, out, Some(s))
+            let span = &mut Span::default();
+            sim.integrate_generic::<Separate, Dynamic>(dense(sim, p), wrt, ws, out, Some(s), span)
                 .expect("runs")
         });
         // Whatever the dispatch picks on this machine: AVX2 + FMA with n

@@ -1,15 +1,14 @@
 //! The runs of a [`Simulator`]: the response, the response with its
 //! sensitivities (in parallel groups of columns when there are many), and
-//! the generalized coordinates along the response.
+//! runs over part of the record or watched sample by sample.
 use super::columns::group_size;
 use super::response::{Response, Sensitivities};
+use super::run::Span;
 use super::simulator::Simulator;
-use super::structure::Row;
 use super::workspace::Workspace;
 use super::SimulationError;
 #[cfg(doc)]
 use crate::model::Model;
-use crate::model::SensorKind;
 
 impl<'m> Simulator<'m> {
     /// Simulates at `params` (all parameters, SI) into `out`.
@@ -55,30 +54,18 @@ impl<'m> Simulator<'m> {
         Ok(())
     }
 
-    /// The generalized coordinates along the response at `params`, for
-    /// analyses of the trajectory (not for the hot path): `values[i *
-    /// n_samples + k]` is `q_i(t_k) − q_i(0)`, the initial state being rest
-    /// or the static equilibrium under gravity. The same steps as
-    /// [`Simulator::run`], with one displacement reading per coordinate.
-    pub fn coordinates(
+    /// Simulates at `params` over the part of the record `span` gives,
+    /// calling its observer at each sample: the response there, as
+    /// [`Simulator::run`] gives it over the whole record.
+    pub fn run_span(
         &self,
         params: &[f64],
         ws: &mut Workspace,
-    ) -> Result<Response, SimulationError> {
-        let n = self.structure.n;
-        let mut probe = self.clone();
-        probe.structure.sensors = (0..n)
-            .map(|i| {
-                let mut h = [0.0; 6];
-                h[i % 6] = 1.0;
-                let row = Row {
-                    blocks: vec![(i - i % 6, h)],
-                };
-                (SensorKind::Displacement, row)
-            })
-            .collect();
-        let mut out = Response::zeros(n, self.model.sampling.n_samples());
-        probe.integrate(params, &[], ws, &mut out, None)?;
-        Ok(out)
+        out: &mut Response,
+        span: &mut Span<'_>,
+    ) -> Result<(), SimulationError> {
+        self.integrate_span(params, &[], ws, out, None, span)?;
+        super::calibration::apply(self.model, params, &[], out, None);
+        Ok(())
     }
 }

@@ -15,7 +15,9 @@ pub struct StepChoice {
     /// The estimated relative RMS error of the simulated signals (largest
     /// over the sensors) where it was last checked; `None` if not estimated.
     pub estimated_error: Option<f64>,
-    /// Simulations the choice and the estimate took.
+    /// Simulations the choice and the estimate took, counting for each
+    /// step count checked the run and its check at twice the steps (a
+    /// long record's check windows together as one).
     #[serde(default)]
     pub runs: usize,
 }
