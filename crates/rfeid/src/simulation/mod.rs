@@ -25,6 +25,8 @@ mod sines;
 mod sparse;
 mod sparse_tangent;
 mod step_choice;
+mod step_error;
+mod step_windows;
 mod stepper;
 pub mod steps;
 pub mod structure;

@@ -233,13 +233,8 @@ impl<'m> Simulator<'m> {
                             s,
                         );
                     }
-                    if let Some(observe) = span.observer.as_mut() {
-                        observe(&SampleView {
-                            sample: first + k,
-                            origin: span.equilibrium.as_deref().unwrap_or(&[]),
-                            y: &ws.y,
-                            z: &ws.z.y,
-                        });
+                    if span.observer.is_some() {
+                        span.notify(first + k, ws, out);
                     }
                 }
                 if step == total_steps {
@@ -295,6 +290,20 @@ pub struct SampleView<'a> {
     pub y: &'a [f64],
     /// The Bouc–Wen internal states (empty without them).
     pub z: &'a [f64],
+    /// The run's sensor motions (before calibration), sensor by sensor,
+    /// `stride` samples each from the run's first sample `first`.
+    motion: &'a [f64],
+    stride: usize,
+    first: usize,
+}
+
+impl SampleView<'_> {
+    /// Sensor `sensor`'s motion (before calibration) from the run's first
+    /// sample up to this one.
+    pub fn motion(&self, sensor: usize) -> &[f64] {
+        let from = sensor * self.stride;
+        &self.motion[from..from + self.sample - self.first + 1]
+    }
 }
 
 /// What part of the record a run covers, and who watches it. The default is
@@ -315,6 +324,26 @@ pub struct Span<'a> {
     pub samples: Option<usize>,
     /// Called at each sample.
     pub observer: Option<&'a mut (dyn FnMut(&SampleView<'_>) + Send)>,
+}
+
+impl Span<'_> {
+    /// Calls the observer with sample `sample` of the run in `ws`
+    /// (outlined: the kernels' loop only tests for an observer).
+    #[inline(never)]
+    fn notify(&mut self, sample: usize, ws: &Workspace, out: &Response) {
+        let first = self.start.as_ref().map_or(0, |s| s.sample);
+        if let Some(observe) = self.observer.as_mut() {
+            observe(&SampleView {
+                sample,
+                origin: self.equilibrium.as_deref().unwrap_or(&[]),
+                y: &ws.y,
+                z: &ws.z.y,
+                motion: &out.values,
+                stride: out.n_samples,
+                first,
+            });
+        }
+    }
 }
 
 impl Simulator<'_> {

@@ -12,15 +12,18 @@
 //!
 //! A record shorter than [`SHORTEST_WINDOWED`] samples is run whole at s
 //! and 2s, at the same time where a second thread is free. A longer one is
-//! not run twice: the run at s keeps its state at the start of each of 32
-//! spans ([`check_spans`]); once it is done, the [`CHECKED_WINDOWS`] spans
-//! where its response varies fastest ([`roughness`]), which is where the
-//! error is made (a chirp's top frequencies, a shock), are run again at 2s
-//! from those states, in parallel, and compared over their samples
-//! ([`windowed_difference`]). The error is then the one of the worst part of
-//! the record rather than its average, so the estimate errs high: on a
-//! 50-body machine tool driven by a 20–800 Hz chirp it is 2.8e-8, against
-//! 1.9e-8 for the whole record and a true error of 1.9e-8.
+//! not run twice (`step_windows`): the run at s keeps its state at the start
+//! of each of 32 spans ([`check_spans`]), and the two spans where its
+//! response varies fastest, which is where the error is made (a chirp's top
+//! frequencies, a shock), are run again at 2s from those states and
+//! compared over their samples ([`windowed_difference`]), most of them on
+//! a second thread while the run goes on. The error is then the one of the
+//! worst part of the record rather than its average, so the estimate errs
+//! high: on a 50-body machine tool driven by a 20–800 Hz chirp it is
+//! 2.5e-8, against 1.9e-8 for the whole record and a true error of 1.9e-8.
+//! While the difference still grows across a window (a lightly damped
+//! resonance whose error builds up for longer), the windows are
+//! lengthened, and past a quarter of the record the record is run whole.
 //!
 //! If s steps miss the tolerance, the next s is predicted from the order
 //! (`s (e/tol)^(1/p)`, with a margin) and checked again, so a choice costs
@@ -34,15 +37,13 @@
 //! During an identification the choice is made once and held fixed (the
 //! criterion stays smooth), and checked again at the estimate
 //! ([`crate::identification::identify`]).
-use super::response::Response;
-use super::run::{SampleState, SampleView, Span};
+use super::run::{SampleView, Span};
 use super::simulator::Simulator;
 use super::step_choice::StepChoice;
 use super::workspace::Workspace;
 use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
 use crate::model::Model;
-use rayon::prelude::*;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 pub use super::integrator::integrator;
 pub use super::modal::fastest_mode_hz;
@@ -57,265 +58,50 @@ pub fn tolerance_range_text() -> String {
     )
 }
 
-/// Each sensor's RMS in `r`, floored at 1e-3 of the largest RMS among the
-/// sensors of the same kind (a sensor that by symmetry reads almost nothing
-/// would otherwise measure rounding noise against rounding noise).
-fn sensor_scales(model: &Model, r: &Response) -> Vec<f64> {
-    let rms: Vec<f64> = (0..r.n_sensors).map(|c| rms(r.sensor(c))).collect();
-    (0..r.n_sensors)
-        .map(|c| {
-            let kind = model.sensors[c].kind;
-            let floor = (0..r.n_sensors)
-                .filter(|&d| model.sensors[d].kind == kind)
-                .map(|d| rms[d])
-                .fold(0.0, f64::max)
-                * 1e-3;
-            rms[c].max(floor)
-        })
-        .collect()
-}
-
-/// The root mean square of `x` (0 if empty).
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
-}
-
-/// The largest over the sensors of `sq_sums[c] / count`, square-rooted and
-/// divided by the sensor's scale; NaN (a non-finite signal) counts as
-/// infinitely wrong.
-fn worst_relative(scales: &[f64], sq_sums: &[f64], count: usize) -> f64 {
-    let mut worst: f64 = 0.0;
-    for (scale, sum) in scales.iter().zip(sq_sums) {
-        if *sum == 0.0 {
-            continue;
-        }
-        let e = (sum / count.max(1) as f64).sqrt() / scale;
-        worst = if e.is_nan() {
-            f64::INFINITY
-        } else {
-            worst.max(e)
-        };
-    }
-    worst
-}
-
-/// Relative RMS difference of `a` from `b`, the largest over the sensors.
-///
-/// Each sensor's RMS difference is divided by its RMS in `b`, but by no
-/// less than 1e-3 of the largest RMS among the sensors of the same kind.
-pub fn relative_difference(model: &Model, a: &Response, b: &Response) -> f64 {
-    let sums: Vec<f64> = (0..b.n_sensors)
-        .map(|c| {
-            let pairs = a.sensor(c).iter().zip(b.sensor(c));
-            pairs.map(|(x, y)| (x - y) * (x - y)).sum()
-        })
-        .collect();
-    worst_relative(&sensor_scales(model, b), &sums, b.n_samples)
-}
-
-/// The relative RMS difference of the response `a` from the finer runs
-/// over the windows `fine` (each starting at its sample), the largest over
-/// the sensors: [`relative_difference`] over the windows' samples, with each
-/// sensor's scale taken from the whole of `a`.
-pub fn windowed_difference(model: &Model, a: &Response, fine: &[(usize, Response)]) -> f64 {
-    let mut sums = vec![0.0; a.n_sensors];
-    let mut count = 0;
-    for (first, w) in fine {
-        for (c, sum) in sums.iter_mut().enumerate() {
-            let coarse = &a.sensor(c)[*first..*first + w.n_samples];
-            let pairs = coarse.iter().zip(w.sensor(c));
-            *sum += pairs.map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
-        }
-        count += w.n_samples;
-    }
-    worst_relative(&sensor_scales(model, a), &sums, count)
-}
-
 /// Records at least this long are checked on windows; shorter ones whole.
 pub const SHORTEST_WINDOWED: usize = 2048;
 
-/// How many windows a long record is checked on.
-const CHECKED_WINDOWS: usize = 2;
-
-/// The record's spans a long record of `n_samples` is cut into for the
-/// check (first sample, samples): 1/32 of the record each, but at least 256
-/// samples, the last one ending at the record's end.
-pub fn check_spans(n_samples: usize) -> Vec<(usize, usize)> {
-    let len = (n_samples / 32).max(256).min(n_samples);
-    let mut spans: Vec<(usize, usize)> = (0..n_samples / len).map(|i| (i * len, len)).collect();
-    if n_samples % len != 0 {
-        spans.push((n_samples - len, len));
-    }
-    spans
-}
-
-/// How fast the response in `span` varies: the largest over the sensors of
-/// the RMS of its fourth differences, relative to the sensor's scale. An
-/// explicit method's local error grows with a high power of ωh, and the
-/// fourth difference weights content at ω by (2 sin(ωh/2))⁴, so the spans
-/// where it is largest are where the steps' error is made.
-fn roughness(r: &Response, scales: &[f64], (first, len): (usize, usize)) -> f64 {
-    (0..r.n_sensors)
-        .map(|c| fourth_differences(&r.sensor(c)[first..first + len]).sqrt() / scales[c])
-        .fold(0.0, f64::max)
-}
-
-/// The mean square of the fourth differences of `x` (over its length).
-fn fourth_differences(x: &[f64]) -> f64 {
-    let d4 = x
-        .windows(5)
-        .map(|w| w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]);
-    d4.map(|d| d * d).sum::<f64>() / x.len().max(1) as f64
-}
-
-/// A response computed on the way to a step choice: the run at the chosen
-/// steps and the parameters of the choice, and its wall time.
-pub type ChosenRun = (Response, Duration);
-
-/// A sample watcher for [`Simulator::choose_watching`]: called at each
-/// sample ([`SampleView`]), from sample 0 again whenever the choice starts
-/// another run.
-pub type Watcher<'w> = dyn FnMut(&SampleView<'_>) + Send + 'w;
+pub use super::step_error::{relative_difference, windowed_difference, ChosenRun, Watcher};
+pub use super::step_windows::check_spans;
 
 /// The response at `substeps` steps per sample with its estimated error
-/// (see the module documentation). A record shorter than
+/// (see the module documentation): a record shorter than
 /// [`SHORTEST_WINDOWED`] is run at twice as many steps as well, at the same
-/// time, and compared whole ([`relative_difference`]). A longer one is cut
-/// into spans ([`check_spans`]) whose starting states the run keeps; the
-/// [`CHECKED_WINDOWS`] spans where the response varies fastest
-/// ([`roughness`]) are run again at twice as many steps from those states,
-/// in parallel, and compared ([`windowed_difference`]). Those are the spans
-/// where the error is largest, so the estimate errs high.
+/// time, and compared whole ([`relative_difference`]); a longer one is
+/// checked on windows (`step_windows`).
 fn checked_run<'w>(
     model: &Model,
     params: &[f64],
     substeps: usize,
     mut watch: Option<&mut Watcher<'w>>,
 ) -> Result<(f64, ChosenRun), SimulationError> {
+    if model.sampling.n_samples() >= SHORTEST_WINDOWED {
+        return super::step_windows::windowed_check(model, params, substeps, watch);
+    }
     let sim = Simulator::with_integrator(model, integrator(substeps));
     let finer = Simulator::with_integrator(model, integrator(2 * substeps));
-    let n_samples = model.sampling.n_samples();
     let mut out = sim.response_buffer();
-    let mut ws = Workspace::default();
-    let whole = n_samples < SHORTEST_WINDOWED;
-    let spans = match whole {
-        true => Vec::new(),
-        false => check_spans(n_samples),
-    };
-    let mut starts: Vec<SampleState> = Vec::with_capacity(spans.len());
     let mut observer = |at: &SampleView<'_>| {
         if let Some(w) = watch.as_mut() {
             w(at);
-        }
-        if spans.get(starts.len()).is_some_and(|s| s.0 == at.sample) {
-            let (y, z) = (at.y.to_vec(), at.z.to_vec());
-            starts.push(SampleState {
-                sample: at.sample,
-                y,
-                z,
-            });
         }
     };
     let mut span = Span {
         observer: Some(&mut observer),
         ..Span::default()
     };
-    let mut timed = || {
+    let timed = || {
         let t0 = Instant::now();
-        let run = sim.run_span(params, &mut ws, &mut out, &mut span);
+        let run = sim.run_span(params, &mut Workspace::default(), &mut out, &mut span);
         run.map(|()| t0.elapsed())
     };
-    if whole {
-        let (elapsed, fine) = rayon::join(timed, || {
-            let mut fine = finer.response_buffer();
-            finer.run(params, &mut Workspace::default(), &mut fine)?;
-            Ok(fine)
-        });
-        let (elapsed, fine) = (elapsed?, fine?);
-        return Ok((relative_difference(model, &out, &fine), (out, elapsed)));
-    }
-    let elapsed = timed()?;
-    let equilibrium = span.equilibrium;
-    let scales = sensor_scales(model, &out);
-    let mut order: Vec<usize> = (0..spans.len()).collect();
-    let rough: Vec<f64> = spans.iter().map(|s| roughness(&out, &scales, *s)).collect();
-    order.sort_by(|&a, &b| rough[b].total_cmp(&rough[a]).then(a.cmp(&b)));
-    order.truncate(CHECKED_WINDOWS);
-    order.sort_unstable();
-    // A window shows the error its span makes only once that error has
-    // settled (the modes it excites have decayed many times over): while
-    // it still grows across a window, the windows are lengthened, and
-    // past a quarter of the record the whole record is run instead.
-    let mut len = spans[0].1;
-    while len <= n_samples / 4 {
-        let windows: Vec<(SampleState, usize)> = (order.iter())
-            .map(|&i| (starts[i].clone(), len.min(n_samples - spans[i].0)))
-            .collect();
-        let fine = run_windows(&finer, params, &equilibrium, windows)?;
-        if !still_growing(&out, &fine) {
-            return Ok((windowed_difference(model, &out, &fine), (out, elapsed)));
-        }
-        len *= 2;
-    }
-    let mut fine = finer.response_buffer();
-    let mut whole = Span {
-        equilibrium,
-        ..Span::default()
-    };
-    finer.run_span(params, &mut Workspace::default(), &mut fine, &mut whole)?;
+    let (elapsed, fine) = rayon::join(timed, || {
+        let mut fine = finer.response_buffer();
+        finer.run(params, &mut Workspace::default(), &mut fine)?;
+        Ok(fine)
+    });
+    let (elapsed, fine) = (elapsed?, fine?);
     Ok((relative_difference(model, &out, &fine), (out, elapsed)))
-}
-
-/// Runs `sim` at `params` over the `windows` (a starting state and a number
-/// of samples each) in parallel, from the static `equilibrium` if any.
-fn run_windows(
-    sim: &Simulator<'_>,
-    params: &[f64],
-    equilibrium: &Option<Vec<f64>>,
-    windows: Vec<(SampleState, usize)>,
-) -> Result<Vec<(usize, Response)>, SimulationError> {
-    windows
-        .into_par_iter()
-        .map(|(start, len)| {
-            let first = start.sample;
-            let mut window = Span {
-                equilibrium: equilibrium.clone(),
-                start: Some(start),
-                samples: Some(len),
-                observer: None,
-            };
-            let mut w = Response::zeros(sim.model().sensors.len(), 0);
-            sim.run_span(params, &mut Workspace::default(), &mut w, &mut window)?;
-            Ok((first, w))
-        })
-        .collect()
-}
-
-/// Whether the difference of `a` from the finer windows `fine` still grows
-/// across them: for the sensor that differs most, the second halves'
-/// squared difference is more than four times the first halves', beyond
-/// what the response's own variation there explains (the ratio of the
-/// halves' [`roughness`], squared). An error growing linearly gives seven;
-/// a settled one about one.
-fn still_growing(a: &Response, fine: &[(usize, Response)]) -> bool {
-    // Per sensor: (early, late) squared difference and squared roughness.
-    let mut halves = vec![[0.0; 4]; a.n_sensors];
-    for (first, w) in fine {
-        let mid = w.n_samples / 2;
-        for (c, h) in halves.iter_mut().enumerate() {
-            let coarse = &a.sensor(c)[*first..*first + w.n_samples];
-            for (k, (x, y)) in coarse.iter().zip(w.sensor(c)).enumerate() {
-                h[usize::from(k >= mid)] += (x - y) * (x - y);
-            }
-            let (early, late) = coarse.split_at(mid);
-            h[2] += fourth_differences(early) * early.len() as f64;
-            h[3] += fourth_differences(late) * late.len() as f64;
-        }
-    }
-    let worst = halves
-        .iter()
-        .max_by(|x, y| (x[0] + x[1]).total_cmp(&(y[0] + y[1])));
-    worst.is_some_and(|h| h[1] * h[2] > 4.0 * h[0] * h[3])
 }
 
 /// The estimated relative RMS error of the response at `params` with
@@ -473,7 +259,7 @@ impl<'m> Simulator<'m> {
 mod tests {
     use super::*;
     use crate::simulation::test_models;
-    use crate::simulation::{SampleState, SampleView, Span};
+    use crate::simulation::{Response, SampleState, SampleView, Span};
 
     /// Runs the model at `params` with `substeps` steps per sample.
     fn run(

@@ -1,0 +1,308 @@
+//! The step-error check of a long record on windows of it (see `steps`):
+//! the run at s steps per sample keeps its state at the start of each span
+//! ([`check_spans`]); the [`CHECKED_WINDOWS`] spans where its response
+//! varies fastest ([`roughness`]) are run again at 2s from those states and
+//! compared with it.
+//!
+//! The windows are launched while the run goes on: when a span ends, the
+//! spans so far are ranked with the scales so far, and a span that ranks
+//! among the first is started at once on a free thread (one at a time, so
+//! that a window that later drops out costs only a thread that was idle).
+//! Once the run is done the spans are ranked again, exactly, and a window
+//! among the final ones that was not started then is run after it. Which
+//! windows are compared is fixed by the final ranking alone, so the
+//! estimate is the same whatever the threads did.
+use super::response::Response;
+use super::run::{SampleState, SampleView, Span};
+use super::simulator::Simulator;
+use super::step_error::{
+    relative_difference, sensor_scales, windowed_difference, ChosenRun, Watcher,
+};
+use super::workspace::Workspace;
+use super::SimulationError;
+use crate::model::{Model, SensorKind};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// How many windows a long record is checked on.
+const CHECKED_WINDOWS: usize = 2;
+
+/// The record's spans a long record of `n_samples` is cut into for the
+/// check (first sample, samples): 1/32 of the record each, but at least 256
+/// samples, the last one ending at the record's end.
+pub fn check_spans(n_samples: usize) -> Vec<(usize, usize)> {
+    let len = (n_samples / 32).max(256).min(n_samples);
+    let mut spans: Vec<(usize, usize)> = (0..n_samples / len).map(|i| (i * len, len)).collect();
+    if n_samples % len != 0 {
+        spans.push((n_samples - len, len));
+    }
+    spans
+}
+
+/// How fast the response in `span` varies: the largest over the sensors of
+/// the RMS of its fourth differences, relative to the sensor's scale. An
+/// explicit method's local error grows with a high power of ωh, and the
+/// fourth difference weights content at ω by (2 sin(ωh/2))⁴, so the spans
+/// where it is largest are where the steps' error is made.
+fn roughness(r: &Response, scales: &[f64], (first, len): (usize, usize)) -> f64 {
+    (0..r.n_sensors)
+        .map(|c| fourth_differences(&r.sensor(c)[first..first + len]).sqrt() / scales[c])
+        .fold(0.0, f64::max)
+}
+
+/// The mean square of the fourth differences of `x` (over its length).
+fn fourth_differences(x: &[f64]) -> f64 {
+    let d4 = x
+        .windows(5)
+        .map(|w| w[0] - 4.0 * w[1] + 6.0 * w[2] - 4.0 * w[3] + w[4]);
+    d4.map(|d| d * d).sum::<f64>() / x.len().max(1) as f64
+}
+
+/// A window's response at 2s, or why there is none.
+type Window = Result<Response, SimulationError>;
+
+/// Windows run so far, with their spans' indices.
+type Done = Mutex<Vec<(usize, Window)>>;
+
+/// What the check keeps while the run goes on.
+struct Progress<'a> {
+    spans: &'a [(usize, usize)],
+    kinds: Vec<SensorKind>,
+    /// The states at the spans' first samples, as the run passes them.
+    starts: Vec<SampleState>,
+    /// Per span ended: each sensor's mean-square fourth difference.
+    rough: Vec<Vec<f64>>,
+    /// Each sensor's sum of squared motion so far.
+    squares: Vec<f64>,
+    launched: Vec<bool>,
+}
+
+impl Progress<'_> {
+    /// Takes a sample of the run: keeps the state at a span's start, and
+    /// when a span ends, ranks it; returns the spans that rank among the
+    /// first then (none at other samples).
+    fn observe(&mut self, at: &SampleView<'_>) -> Vec<usize> {
+        if (self.spans.get(self.starts.len())).is_some_and(|s| s.0 == at.sample) {
+            let (y, z) = (at.y.to_vec(), at.z.to_vec());
+            let sample = at.sample;
+            self.starts.push(SampleState { sample, y, z });
+        }
+        for (c, sq) in self.squares.iter_mut().enumerate() {
+            *sq += at.motion(c).last().map_or(0.0, |x| x * x);
+        }
+        match self.spans.get(self.rough.len()) {
+            Some(&(first, len)) if at.sample == first + len - 1 => {
+                let rough = (0..self.squares.len())
+                    .map(|c| fourth_differences(&at.motion(c)[first..first + len]))
+                    .collect();
+                self.rough.push(rough);
+                self.leading(at.sample + 1)
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The spans ended so far that rank among the first [`CHECKED_WINDOWS`]
+    /// with the scales so far (the floor of `sensor_scales`).
+    fn leading(&self, samples: usize) -> Vec<usize> {
+        let rms: Vec<f64> = (self.squares.iter())
+            .map(|s| (s / samples as f64).sqrt())
+            .collect();
+        let scale: Vec<f64> = (0..rms.len())
+            .map(|c| {
+                let same = (0..rms.len()).filter(|&d| self.kinds[d] == self.kinds[c]);
+                rms[c].max(same.map(|d| rms[d]).fold(0.0, f64::max) * 1e-3)
+            })
+            .collect();
+        let score = |i: usize| -> f64 {
+            (self.rough[i].iter().zip(&scale))
+                .map(|(r, s)| r.sqrt() / s)
+                .fold(0.0, f64::max)
+        };
+        let scores: Vec<f64> = (0..self.rough.len()).map(score).collect();
+        let mut order: Vec<usize> = (0..scores.len()).collect();
+        order.sort_by(|&a, &b| scores[b].total_cmp(&scores[a]).then(a.cmp(&b)));
+        order.truncate(CHECKED_WINDOWS);
+        order
+    }
+}
+
+/// The run at `substeps` steps per sample with its estimated error, for a
+/// record of at least [`super::steps::SHORTEST_WINDOWED`] samples (see the
+/// module documentation).
+pub(super) fn windowed_check<'w>(
+    model: &Model,
+    params: &[f64],
+    substeps: usize,
+    mut watch: Option<&mut Watcher<'w>>,
+) -> Result<(f64, ChosenRun), SimulationError> {
+    let sim = Simulator::with_integrator(model, super::integrator::integrator(substeps));
+    let finer = Simulator::with_integrator(model, super::integrator::integrator(2 * substeps));
+    let n_samples = model.sampling.n_samples();
+    let spans = check_spans(n_samples);
+    let mut out = sim.response_buffer();
+    let mut progress = Progress {
+        spans: &spans,
+        kinds: model.sensors.iter().map(|s| s.kind).collect(),
+        starts: Vec::with_capacity(spans.len()),
+        rough: Vec::with_capacity(spans.len()),
+        squares: vec![0.0; model.sensors.len()],
+        launched: vec![false; spans.len()],
+    };
+    let (done, busy): (Done, AtomicUsize) = (Mutex::new(Vec::new()), AtomicUsize::new(0));
+    let (mut run, mut elapsed, mut equilibrium) = (Ok(()), Default::default(), None);
+    rayon::scope(|scope| {
+        let (finer, done, busy) = (&finer, &done, &busy);
+        let mut observer = |at: &SampleView<'_>| {
+            if let Some(w) = watch.as_mut() {
+                w(at);
+            }
+            let p = &mut progress;
+            for i in p.observe(at) {
+                if p.launched[i] || busy.load(Ordering::Acquire) != 0 {
+                    continue;
+                }
+                p.launched[i] = true;
+                busy.fetch_add(1, Ordering::AcqRel);
+                let (start, p_len) = (p.starts[i].clone(), p.spans[i].1);
+                let eq = Some(at.origin.to_vec()).filter(|o| !o.is_empty());
+                scope.spawn(move |_| {
+                    let w = run_windows(finer, params, &eq, vec![(start, p_len)]);
+                    let w = w.map(|mut w| w.remove(0).1);
+                    done.lock().expect("a window panicked").push((i, w));
+                    busy.fetch_sub(1, Ordering::AcqRel);
+                });
+            }
+        };
+        let mut span = Span {
+            observer: Some(&mut observer),
+            ..Span::default()
+        };
+        let t0 = Instant::now();
+        run = sim.run_span(params, &mut Workspace::default(), &mut out, &mut span);
+        elapsed = t0.elapsed();
+        equilibrium = span.equilibrium;
+    });
+    run?;
+    let done = done.into_inner().expect("a window panicked");
+    let e = compare_windows(&finer, params, &out, &progress, done, equilibrium)?;
+    Ok((e, (out, elapsed)))
+}
+
+/// The estimate from the windows of the final ranking, compared with the
+/// run's response `out`: those already `done` while it ran, the others run
+/// now from the states `progress` kept (see the module documentation).
+fn compare_windows(
+    finer: &Simulator<'_>,
+    params: &[f64],
+    out: &Response,
+    progress: &Progress<'_>,
+    done: Vec<(usize, Window)>,
+    equilibrium: Option<Vec<f64>>,
+) -> Result<f64, SimulationError> {
+    let (spans, starts) = (progress.spans, &progress.starts);
+    let model = finer.model();
+    let n_samples = model.sampling.n_samples();
+    let chosen = final_ranking(model, out, spans);
+    // A window shows the error its span makes only once that error has
+    // settled (the modes it excites have decayed many times over): while
+    // it still grows across a window, the windows are lengthened, and
+    // past a quarter of the record the whole record is run instead.
+    let mut len = spans[0].1;
+    let mut ready: Vec<Option<Response>> = (chosen.iter())
+        .map(|&i| {
+            let w = done.iter().find(|(j, _)| *j == i).map(|(_, w)| w.clone());
+            w.transpose()
+        })
+        .collect::<Result<_, _>>()?;
+    while len <= n_samples / 4 {
+        let missing: Vec<(SampleState, usize)> = (chosen.iter().zip(&ready))
+            .filter(|(_, w)| w.is_none())
+            .map(|(&i, _)| (starts[i].clone(), len.min(n_samples - spans[i].0)))
+            .collect();
+        let mut more = run_windows(finer, params, &equilibrium, missing)?.into_iter();
+        let fine: Vec<(usize, Response)> = (chosen.iter().zip(ready.iter_mut()))
+            .map(|(&i, w)| {
+                let w = w.take().or_else(|| more.next().map(|m| m.1));
+                (spans[i].0, w.expect("one window per span chosen"))
+            })
+            .collect();
+        if !still_growing(out, &fine) {
+            return Ok(windowed_difference(model, out, &fine));
+        }
+        len *= 2;
+    }
+    let mut fine = finer.response_buffer();
+    let mut whole = Span {
+        equilibrium,
+        ..Span::default()
+    };
+    finer.run_span(params, &mut Workspace::default(), &mut fine, &mut whole)?;
+    Ok(relative_difference(model, out, &fine))
+}
+
+/// The [`CHECKED_WINDOWS`] spans where the run's response `out` varies
+/// fastest ([`roughness`] with the whole record's scales), in record order.
+fn final_ranking(model: &Model, out: &Response, spans: &[(usize, usize)]) -> Vec<usize> {
+    let scales = sensor_scales(model, out);
+    let rough: Vec<f64> = spans.iter().map(|s| roughness(out, &scales, *s)).collect();
+    let mut order: Vec<usize> = (0..spans.len()).collect();
+    order.sort_by(|&a, &b| rough[b].total_cmp(&rough[a]).then(a.cmp(&b)));
+    order.truncate(CHECKED_WINDOWS);
+    order.sort_unstable();
+    order
+}
+
+/// Runs `sim` at `params` over the `windows` (a starting state and a number
+/// of samples each) in parallel, from the static `equilibrium` if any.
+fn run_windows(
+    sim: &Simulator<'_>,
+    params: &[f64],
+    equilibrium: &Option<Vec<f64>>,
+    windows: Vec<(SampleState, usize)>,
+) -> Result<Vec<(usize, Response)>, SimulationError> {
+    windows
+        .into_par_iter()
+        .map(|(start, len)| {
+            let first = start.sample;
+            let mut window = Span {
+                equilibrium: equilibrium.clone(),
+                start: Some(start),
+                samples: Some(len),
+                observer: None,
+            };
+            let mut w = Response::zeros(sim.model().sensors.len(), 0);
+            sim.run_span(params, &mut Workspace::default(), &mut w, &mut window)?;
+            Ok((first, w))
+        })
+        .collect()
+}
+
+/// Whether the difference of `a` from the finer windows `fine` still grows
+/// across them: for the sensor that differs most, the second halves'
+/// squared difference is more than four times the first halves', beyond
+/// what the response's own variation there explains (the ratio of the
+/// halves' [`roughness`], squared). An error growing linearly gives seven;
+/// a settled one about one.
+fn still_growing(a: &Response, fine: &[(usize, Response)]) -> bool {
+    // Per sensor: (early, late) squared difference and squared roughness.
+    let mut halves = vec![[0.0; 4]; a.n_sensors];
+    for (first, w) in fine {
+        let mid = w.n_samples / 2;
+        for (c, h) in halves.iter_mut().enumerate() {
+            let coarse = &a.sensor(c)[*first..*first + w.n_samples];
+            for (k, (x, y)) in coarse.iter().zip(w.sensor(c)).enumerate() {
+                h[usize::from(k >= mid)] += (x - y) * (x - y);
+            }
+            let (early, late) = coarse.split_at(mid);
+            h[2] += fourth_differences(early) * early.len() as f64;
+            h[3] += fourth_differences(late) * late.len() as f64;
+        }
+    }
+    let worst = halves
+        .iter()
+        .max_by(|x, y| (x[0] + x[1]).total_cmp(&(y[0] + y[1])));
+    worst.is_some_and(|h| h[1] * h[2] > 4.0 * h[0] * h[3])
+}
