@@ -7,13 +7,13 @@ use crate::run::failures::simulation_failure_of;
 use crate::run::inputs::{apply_sets, load, stepped};
 use crate::run::show::{json_conflict, steps_note};
 use crate::ui::Ui;
-use rfeid::io::timeseries::write_csv_to;
+use rfeid::io::timeseries::{write_csv_to, TimeSeries};
 use rfeid::measurement::simulated::{simulate_record, NoiseSpec, Simulated};
 use rfeid::measurement::{rms, to_timeseries};
 use rfeid::model::Model;
 use rfeid::simulation::aliasing::{above_nyquist_after, modes_at_rest};
 use rfeid::simulation::steps::integrator;
-use rfeid::simulation::Simulator;
+use rfeid::simulation::{Response, Simulator};
 
 /// Runs the command.
 pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
@@ -45,15 +45,13 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
     } = simulated.map_err(simulation_failure_of)?;
     let steps = sim.steps();
     let series = to_timeseries(&model, &out);
-    let mut csv = Vec::new();
-    write_csv_to(&mut csv, &series).map_err(|e| Failure::failed(format!("CSV: {e}")))?;
-    let mut batch = outputs.batch();
-    if args.plot.is_some() {
-        let svg = rfeid::report::response_svg(&model, &series.time, &out);
-        batch.file("--plot", svg.into_bytes())?;
-    }
-    batch.file("-o", csv)?;
-    batch.commit()?;
+    // The Nyquist check's eigenproblems and writing the files are
+    // independent.
+    let (warnings, written) = rayon::join(
+        || above_nyquist_after(&sim, &params, peaks.as_ref(), rest),
+        || write_outputs(&args, &model, (&series, &out), &outputs),
+    );
+    written?;
     if let Some(path) = &args.plot {
         ui.note(format!("plot written to {}", path.display()));
     }
@@ -76,7 +74,7 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         args.output.display()
     ));
     ui.note(steps_note(&steps));
-    for w in above_nyquist_after(&sim, &params, peaks.as_ref(), rest) {
+    for w in warnings {
         ui.note(format!("warning: {w}"));
     }
     for (c, s) in model.sensors.iter().enumerate() {
@@ -88,6 +86,24 @@ pub fn run(args: SimulateArgs, ui: &Ui) -> Result<(), Failure> {
         ));
     }
     Ok(())
+}
+
+/// Writes the CSV (and the plot, if asked for), all or nothing.
+fn write_outputs(
+    args: &SimulateArgs,
+    model: &Model,
+    (series, out): (&TimeSeries, &Response),
+    outputs: &Checked,
+) -> Result<(), Failure> {
+    let mut csv = Vec::new();
+    write_csv_to(&mut csv, series).map_err(|e| Failure::failed(format!("CSV: {e}")))?;
+    let mut batch = outputs.batch();
+    if args.plot.is_some() {
+        let svg = rfeid::report::response_svg(model, &series.time, out);
+        batch.file("--plot", svg.into_bytes())?;
+    }
+    batch.file("-o", csv)?;
+    batch.commit()
 }
 
 /// The run's inputs and outputs (`-o`, `--plot`), checked.

@@ -197,8 +197,12 @@ fn zero_slope_components(sim: &Simulator<'_>, sys: &System<'_>, q: &[f64]) -> Ve
 /// `L⁻¹ K_t(q) L⁻ᵀ` with `M = L Lᵀ`: its eigenvalues are the squared
 /// undamped natural frequencies ω² of the model linearised at `q`.
 fn mass_scaled_tangent(sys: &System<'_>, q: &[f64]) -> DMatrix<f64> {
+    mass_scaled(sys, &sys.tangent_stiffness(q))
+}
+
+/// `L⁻¹ K L⁻ᵀ` of a stiffness `kt` (dense n×n, row-major), symmetrised.
+fn mass_scaled(sys: &System<'_>, kt: &[f64]) -> DMatrix<f64> {
     let n = sys.n;
-    let kt = sys.tangent_stiffness(q);
     let linv: Vec<f64> = sys.minv.iter().map(|m| m.sqrt()).collect();
     let a = DMatrix::from_fn(n, n, |i, j| linv[i] * kt[i * n + j] * linv[j]);
     (&a + a.transpose()) * 0.5
@@ -210,7 +214,13 @@ fn mass_scaled_tangent(sys: &System<'_>, q: &[f64]) -> DMatrix<f64> {
 pub fn highest_frequency_at(sys: &System<'_>, q: &[f64]) -> f64 {
     // The top of the spectrum only (Lanczos): a 300-coordinate model's
     // dense eigenvalues cost several times as much.
-    let lam = super::lanczos::largest_eigenvalue(&mass_scaled_tangent(sys, q)).max(0.0);
+    highest_frequency_of(sys, &sys.tangent_stiffness(q))
+}
+
+/// The highest undamped natural frequency, Hz, of the stiffness `kt`
+/// (dense n×n, row-major) on the model's masses.
+pub fn highest_frequency_of(sys: &System<'_>, kt: &[f64]) -> f64 {
+    let lam = super::lanczos::largest_eigenvalue(&mass_scaled(sys, kt)).max(0.0);
     lam.sqrt() / (2.0 * std::f64::consts::PI)
 }
 

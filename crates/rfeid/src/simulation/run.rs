@@ -50,23 +50,12 @@ impl<'m> Simulator<'m> {
         out: &mut Response,
         values: &mut Vec<f64>,
     ) -> Result<(), SimulationError> {
-        self.integrate(params, wrt, ws, out, Some(values))
+        self.integrate(params, wrt, ws, out, Some(values), &mut Span::default())
     }
 
+    /// The response and, when asked (`sens`), its sensitivities to `wrt`,
+    /// over the samples of `span`, calling its observer at each.
     pub(super) fn integrate(
-        &self,
-        params: &[f64],
-        wrt: &[usize],
-        ws: &mut Workspace,
-        out: &mut Response,
-        sens: Option<&mut Vec<f64>>,
-    ) -> Result<(), SimulationError> {
-        self.integrate_span(params, wrt, ws, out, sens, &mut Span::default())
-    }
-
-    /// [`Self::integrate`] over the samples of `span`, calling its
-    /// observer at each.
-    pub(super) fn integrate_span(
         &self,
         params: &[f64],
         wrt: &[usize],
@@ -492,7 +481,8 @@ mod tests {
         // fixed where the CPU has them (otherwise the portable path itself,
         // and the comparison is trivially met).
         let dispatched = knee_column_with(|sim, p, wrt, ws, out, s| {
-            sim.integrate(p, wrt, ws, out, Some(s)).expect("runs")
+            sim.integrate(p, wrt, ws, out, Some(s), &mut Span::default())
+                .expect("runs")
         });
         let response = relative_rms_difference(&portable.0, &dispatched.0);
         let sensitivities = relative_rms_difference(&portable.1, &dispatched.1);

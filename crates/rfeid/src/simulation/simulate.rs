@@ -18,7 +18,7 @@ impl<'m> Simulator<'m> {
         ws: &mut Workspace,
         out: &mut Response,
     ) -> Result<(), SimulationError> {
-        self.integrate(params, &[], ws, out, None)?;
+        self.integrate(params, &[], ws, out, None, &mut Span::default())?;
         super::calibration::apply(self.model, params, &[], out, None);
         Ok(())
     }
@@ -48,7 +48,14 @@ impl<'m> Simulator<'m> {
             ws.groups = groups;
             result?;
         } else {
-            self.integrate(params, wrt, ws, out, Some(&mut sens.values))?;
+            self.integrate(
+                params,
+                wrt,
+                ws,
+                out,
+                Some(&mut sens.values),
+                &mut Span::default(),
+            )?;
         }
         super::calibration::apply(self.model, params, wrt, out, Some(&mut sens.values));
         Ok(())
@@ -64,7 +71,7 @@ impl<'m> Simulator<'m> {
         out: &mut Response,
         span: &mut Span<'_>,
     ) -> Result<(), SimulationError> {
-        self.integrate_span(params, &[], ws, out, None, span)?;
+        self.integrate(params, &[], ws, out, None, span)?;
         super::calibration::apply(self.model, params, &[], out, None);
         Ok(())
     }

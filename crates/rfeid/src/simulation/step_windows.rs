@@ -6,8 +6,10 @@
 //!
 //! The windows are launched while the run goes on: when a span ends, the
 //! spans so far are ranked with the scales so far, and a span that ranks
-//! among the first is started at once on a free thread (one at a time, so
-//! that a window that later drops out costs only a thread that was idle).
+//! among the first is started at once on a free thread (one window at a
+//! time, so that a window that later drops out costs only a thread that
+//! was idle). Starting the window of the span after a leading one as well,
+//! before its own rank is known, was tried and measured no faster.
 //! Once the run is done the spans are ranked again, exactly, and a window
 //! among the final ones that was not started then is run after it. Which
 //! windows are compared is fixed by the final ranking alone, so the
@@ -84,13 +86,13 @@ impl Progress<'_> {
     /// when a span ends, ranks it; returns the spans that rank among the
     /// first then (none at other samples).
     fn observe(&mut self, at: &SampleView<'_>) -> Vec<usize> {
+        for (c, sq) in self.squares.iter_mut().enumerate() {
+            *sq += at.motion(c).last().map_or(0.0, |x| x * x);
+        }
         if (self.spans.get(self.starts.len())).is_some_and(|s| s.0 == at.sample) {
             let (y, z) = (at.y.to_vec(), at.z.to_vec());
             let sample = at.sample;
             self.starts.push(SampleState { sample, y, z });
-        }
-        for (c, sq) in self.squares.iter_mut().enumerate() {
-            *sq += at.motion(c).last().map_or(0.0, |x| x * x);
         }
         match self.spans.get(self.rough.len()) {
             Some(&(first, len)) if at.sample == first + len - 1 => {

@@ -409,4 +409,24 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn the_windowed_choice_is_the_same_on_one_thread_and_on_two() {
+        // The windows started during the run depend on the threads; the
+        // ones compared must not.
+        let m = test_models::chirped_oscillator(300.0, 20.0, (10.0, 450.0), 1000.0, 4.0);
+        let choose = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let (sim, (out, _)) = Simulator::choose_keeping(&m, &m.nominal()).unwrap();
+                (sim.steps(), out.values)
+            })
+        };
+        let one = choose(1);
+        assert!(one == choose(2));
+        assert!(one.0.estimated_error.is_some());
+    }
 }

@@ -379,6 +379,14 @@ impl<'a> System<'a> {
     /// The tangent stiffness `K_t = K + Σ f'(δ_i) B_iᵀ B_i` at `q` (dense n×n,
     /// row-major), used for static equilibrium and modal analysis.
     pub fn tangent_stiffness(&self, q: &[f64]) -> Vec<f64> {
+        let deformations: Vec<f64> = self.power.iter().map(|pr| pr.row.dot(q)).collect();
+        self.tangent_at_deformations(&deformations)
+    }
+
+    /// The tangent stiffness with each power-law spring at the deformation
+    /// given for it (in the order of [`System::power_components`]' power
+    /// laws), whatever state that would take: dense n×n, row-major.
+    pub fn tangent_at_deformations(&self, deformations: &[f64]) -> Vec<f64> {
         let n = self.n;
         let mut kt = vec![0.0; n * n];
         for i in 0..n {
@@ -386,8 +394,8 @@ impl<'a> System<'a> {
                 kt[i * n + j] = -self.a_lin[i * 2 * n + j] / self.minv[i];
             }
         }
-        for pr in &self.power {
-            let (_, slope) = power_law(pr.a, pr.m, pr.row.dot(q));
+        for (pr, &delta) in self.power.iter().zip(deformations) {
+            let (_, slope) = power_law(pr.a, pr.m, delta);
             if slope == 0.0 {
                 continue;
             }
