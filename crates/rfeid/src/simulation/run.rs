@@ -148,6 +148,10 @@ impl<'m> Simulator<'m> {
         out.n_samples = n_samples;
         out.n_sensors = n_sensors;
         out.values.resize(n_samples * n_sensors, 0.0);
+        if n_samples == 0 {
+            // A span past the record's end: nothing to record.
+            return Ok(());
+        }
         if r == 0 || span.start.is_some() {
             // Sensitivities to nothing (or from a state without them): an
             // empty matrix, and a plain run.

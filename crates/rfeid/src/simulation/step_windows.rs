@@ -35,7 +35,7 @@ const CHECKED_WINDOWS: usize = 2;
 /// check (first sample, samples): 1/32 of the record each, but at least 256
 /// samples, the last one ending at the record's end.
 pub fn check_spans(n_samples: usize) -> Vec<(usize, usize)> {
-    let len = (n_samples / 32).max(256).min(n_samples);
+    let len = (n_samples / 32).max(256).min(n_samples).max(1);
     let mut spans: Vec<(usize, usize)> = (0..n_samples / len).map(|i| (i * len, len)).collect();
     if n_samples % len != 0 {
         spans.push((n_samples - len, len));
@@ -231,7 +231,7 @@ fn compare_windows(
                 (spans[i].0, w.expect("one window per span chosen"))
             })
             .collect();
-        if !still_growing(out, &fine) {
+        if !still_growing(out, &sensor_scales(model, out), &fine) {
             return Ok(windowed_difference(model, out, &fine));
         }
         len *= 2;
@@ -283,12 +283,13 @@ fn run_windows(
 }
 
 /// Whether the difference of `a` from the finer windows `fine` still grows
-/// across them: for the sensor that differs most, the second halves'
+/// across them: for the sensor that differs most (relative to its scale,
+/// `scales`), the second halves'
 /// squared difference is more than four times the first halves', beyond
 /// what the response's own variation there explains (the ratio of the
 /// halves' [`roughness`], squared). An error growing linearly gives seven;
 /// a settled one about one.
-fn still_growing(a: &Response, fine: &[(usize, Response)]) -> bool {
+fn still_growing(a: &Response, scales: &[f64], fine: &[(usize, Response)]) -> bool {
     // Per sensor: (early, late) squared difference and squared roughness.
     let mut halves = vec![[0.0; 4]; a.n_sensors];
     for (first, w) in fine {
@@ -303,8 +304,9 @@ fn still_growing(a: &Response, fine: &[(usize, Response)]) -> bool {
             h[3] += fourth_differences(late) * late.len() as f64;
         }
     }
-    let worst = halves
-        .iter()
-        .max_by(|x, y| (x[0] + x[1]).total_cmp(&(y[0] + y[1])));
+    let relative = |c: usize| (halves[c][0] + halves[c][1]) / (scales[c] * scales[c]);
+    let worst = (0..halves.len())
+        .max_by(|&x, &y| relative(x).total_cmp(&relative(y)))
+        .map(|c| halves[c]);
     worst.is_some_and(|h| h[1] * h[2] > 4.0 * h[0] * h[3])
 }
