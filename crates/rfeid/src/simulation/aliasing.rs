@@ -45,6 +45,8 @@ pub struct DeformationPeaks {
     /// The coordinates (from zero, not from the run's origin) at the
     /// samples still in `most`.
     states: Vec<(usize, Vec<f64>)>,
+    /// Buffers of states no longer needed, for reuse.
+    spare: Vec<Vec<f64>>,
     /// Scratch for them.
     q: Vec<f64>,
 }
@@ -70,6 +72,7 @@ impl DeformationPeaks {
             rows,
             q: vec![0.0; structure.n],
             states: Vec::new(),
+            spare: Vec::new(),
         })
     }
 
@@ -78,7 +81,7 @@ impl DeformationPeaks {
         let k = at.sample;
         if k == 0 {
             self.most.iter_mut().for_each(|m| *m = (0, -1.0));
-            self.states.clear();
+            self.spare.extend(self.states.drain(..).map(|(_, q)| q));
         }
         let n = self.q.len();
         self.q.copy_from_slice(&at.y[..n]);
@@ -95,10 +98,17 @@ impl DeformationPeaks {
         }
         if kept {
             if self.states.len() > 2 * self.most.len() {
+                // States no component refers to any more: their buffers
+                // are reused, so that the watch does not allocate.
                 let most = &self.most;
-                self.states.retain(|(s, _)| most.iter().any(|m| m.0 == *s));
+                let (keep, drop): (Vec<_>, Vec<_>) =
+                    (self.states.drain(..)).partition(|(s, _)| most.iter().any(|m| m.0 == *s));
+                self.states = keep;
+                self.spare.extend(drop.into_iter().map(|(_, q)| q));
             }
-            self.states.push((k, self.q.clone()));
+            let mut q = self.spare.pop().unwrap_or_default();
+            q.clone_from(&self.q);
+            self.states.push((k, q));
         }
     }
 

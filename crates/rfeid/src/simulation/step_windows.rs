@@ -14,6 +14,7 @@
 //! among the final ones that was not started then is run after it. Which
 //! windows are compared is fixed by the final ranking alone, so the
 //! estimate is the same whatever the threads did.
+use super::integrator::integrator;
 use super::response::Response;
 use super::run::{SampleState, SampleView, Span};
 use super::simulator::Simulator;
@@ -22,7 +23,7 @@ use super::step_error::{
 };
 use super::workspace::Workspace;
 use super::SimulationError;
-use crate::model::{Model, SensorKind};
+use crate::model::SensorKind;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -135,13 +136,13 @@ impl Progress<'_> {
 /// record of at least [`super::steps::SHORTEST_WINDOWED`] samples (see the
 /// module documentation).
 pub(super) fn windowed_check<'w>(
-    model: &Model,
+    sim: &Simulator<'_>,
     params: &[f64],
-    substeps: usize,
     mut watch: Option<&mut Watcher<'w>>,
 ) -> Result<(f64, ChosenRun), SimulationError> {
-    let sim = Simulator::with_integrator(model, super::integrator::integrator(substeps));
-    let finer = Simulator::with_integrator(model, super::integrator::integrator(2 * substeps));
+    let model = sim.model();
+    let finer = integrator(2 * sim.integrator().substeps);
+    let finer = Simulator::with_integrator(model, finer);
     let n_samples = model.sampling.n_samples();
     let spans = check_spans(n_samples);
     let mut out = sim.response_buffer();
@@ -171,8 +172,7 @@ pub(super) fn windowed_check<'w>(
                 let (start, p_len) = (p.starts[i].clone(), p.spans[i].1);
                 let eq = Some(at.origin.to_vec()).filter(|o| !o.is_empty());
                 scope.spawn(move |_| {
-                    let w = run_windows(finer, params, &eq, vec![(start, p_len)]);
-                    let w = w.map(|mut w| w.remove(0).1);
+                    let w = run_window(finer, params, &eq, start, p_len);
                     done.lock().expect("a window panicked").push((i, w));
                     busy.fetch_sub(1, Ordering::AcqRel);
                 });
@@ -207,16 +207,18 @@ fn compare_windows(
     let (spans, starts) = (progress.spans, &progress.starts);
     let model = finer.model();
     let n_samples = model.sampling.n_samples();
-    let chosen = final_ranking(model, out, spans);
+    let scales = sensor_scales(model, out);
+    let chosen = final_ranking(out, &scales, spans);
     // A window shows the error its span makes only once that error has
     // settled (the modes it excites have decayed many times over): while
     // it still grows across a window, the windows are lengthened, and
     // past a quarter of the record the whole record is run instead.
     let mut len = spans[0].1;
+    let mut done = done;
     let mut ready: Vec<Option<Response>> = (chosen.iter())
         .map(|&i| {
-            let w = done.iter().find(|(j, _)| *j == i).map(|(_, w)| w.clone());
-            w.transpose()
+            let at = done.iter().position(|(j, _)| *j == i);
+            at.map(|at| done.swap_remove(at).1).transpose()
         })
         .collect::<Result<_, _>>()?;
     while len <= n_samples / 4 {
@@ -231,7 +233,7 @@ fn compare_windows(
                 (spans[i].0, w.expect("one window per span chosen"))
             })
             .collect();
-        if !still_growing(out, &sensor_scales(model, out), &fine) {
+        if !still_growing(out, &scales, &fine) {
             return Ok(windowed_difference(model, out, &fine));
         }
         len *= 2;
@@ -246,10 +248,10 @@ fn compare_windows(
 }
 
 /// The [`CHECKED_WINDOWS`] spans where the run's response `out` varies
-/// fastest ([`roughness`] with the whole record's scales), in record order.
-fn final_ranking(model: &Model, out: &Response, spans: &[(usize, usize)]) -> Vec<usize> {
-    let scales = sensor_scales(model, out);
-    let rough: Vec<f64> = spans.iter().map(|s| roughness(out, &scales, *s)).collect();
+/// fastest ([`roughness`] with the whole record's `scales`), in record
+/// order.
+fn final_ranking(out: &Response, scales: &[f64], spans: &[(usize, usize)]) -> Vec<usize> {
+    let rough: Vec<f64> = spans.iter().map(|s| roughness(out, scales, *s)).collect();
     let mut order: Vec<usize> = (0..spans.len()).collect();
     order.sort_by(|&a, &b| rough[b].total_cmp(&rough[a]).then(a.cmp(&b)));
     order.truncate(CHECKED_WINDOWS);
@@ -269,17 +271,29 @@ fn run_windows(
         .into_par_iter()
         .map(|(start, len)| {
             let first = start.sample;
-            let mut window = Span {
-                equilibrium: equilibrium.clone(),
-                start: Some(start),
-                samples: Some(len),
-                observer: None,
-            };
-            let mut w = Response::zeros(sim.model().sensors.len(), 0);
-            sim.run_span(params, &mut Workspace::default(), &mut w, &mut window)?;
-            Ok((first, w))
+            Ok((first, run_window(sim, params, equilibrium, start, len)?))
         })
         .collect()
+}
+
+/// Runs `sim` at `params` for `len` samples from `start`, from the static
+/// `equilibrium` if any.
+fn run_window(
+    sim: &Simulator<'_>,
+    params: &[f64],
+    equilibrium: &Option<Vec<f64>>,
+    start: SampleState,
+    len: usize,
+) -> Window {
+    let mut window = Span {
+        equilibrium: equilibrium.clone(),
+        start: Some(start),
+        samples: Some(len),
+        observer: None,
+    };
+    let mut w = Response::zeros(sim.model().sensors.len(), 0);
+    sim.run_span(params, &mut Workspace::default(), &mut w, &mut window)?;
+    Ok(w)
 }
 
 /// Whether the difference of `a` from the finer windows `fine` still grows

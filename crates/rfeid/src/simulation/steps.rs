@@ -79,7 +79,7 @@ fn checked_run<'w>(
 ) -> Result<(f64, ChosenRun), SimulationError> {
     let sim = Simulator::with_integrator(model, integrator(substeps));
     if model.sampling.n_samples() >= SHORTEST_WINDOWED && windows_suffice(&sim, params) {
-        return super::step_windows::windowed_check(model, params, substeps, watch);
+        return super::step_windows::windowed_check(&sim, params, watch);
     }
     let finer = Simulator::with_integrator(model, integrator(2 * substeps));
     let mut out = sim.response_buffer();
