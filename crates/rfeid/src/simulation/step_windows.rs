@@ -8,8 +8,12 @@
 //! spans so far are ranked with the scales so far, and a span that ranks
 //! among the first is started at once on a free thread (one window at a
 //! time, so that a window that later drops out costs only a thread that
-//! was idle). Starting the window of the span after a leading one as well,
-//! before its own rank is known, was tried and measured no faster.
+//! was idle). The record's last span, which can be ranked only at its end,
+//! has its window started as soon as the run enters it, so that when it is
+//! among the roughest (a chirp's end) its window ends about one span after
+//! the run instead of two. Starting the window of the span after a leading
+//! one as well, before its own rank is known, was tried and measured no
+//! faster.
 //! Once the run is done the spans are ranked again, exactly, and a window
 //! among the final ones that was not started then is run after it. Which
 //! windows are compared is fixed by the final ranking alone, so the
@@ -21,11 +25,12 @@ use super::simulator::Simulator;
 use super::step_error::{
     relative_difference, sensor_scales, windowed_difference, ChosenRun, Watcher,
 };
+use super::steps::windows_suffice;
 use super::workspace::Workspace;
 use super::SimulationError;
 use crate::model::SensorKind;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -85,17 +90,22 @@ struct Progress<'a> {
 impl Progress<'_> {
     /// Takes a sample of the run: keeps the state at a span's start, and
     /// when a span ends, ranks it; returns the spans that rank among the
-    /// first then (none at other samples).
+    /// first then (none at other samples). The record's last span is also
+    /// returned when the run enters it: it can be ranked only at the
+    /// record's end, and its window, started then, would be all the check
+    /// adds to the run when it is among the roughest.
     fn observe(&mut self, at: &SampleView<'_>) -> Vec<usize> {
         for (c, sq) in self.squares.iter_mut().enumerate() {
             *sq += at.motion(c).last().map_or(0.0, |x| x * x);
         }
+        let mut entered = None;
         if (self.spans.get(self.starts.len())).is_some_and(|s| s.0 == at.sample) {
             let (y, z) = (at.y.to_vec(), at.z.to_vec());
             let sample = at.sample;
             self.starts.push(SampleState { sample, y, z });
+            entered = Some(self.starts.len() - 1).filter(|&i| i + 1 == self.spans.len());
         }
-        match self.spans.get(self.rough.len()) {
+        let mut start = match self.spans.get(self.rough.len()) {
             Some(&(first, len)) if at.sample == first + len - 1 => {
                 let rough = (0..self.squares.len())
                     .map(|c| fourth_differences(&at.motion(c)[first..first + len]))
@@ -104,7 +114,9 @@ impl Progress<'_> {
                 self.leading(at.sample + 1)
             }
             _ => Vec::new(),
-        }
+        };
+        start.extend(entered.filter(|&i| i > 0));
+        start
     }
 
     /// The spans ended so far that rank among the first [`CHECKED_WINDOWS`]
@@ -132,9 +144,21 @@ impl Progress<'_> {
     }
 }
 
+/// Whether a long record may be checked on windows: not known yet, yes, or
+/// no (the whole record is run at 2s instead); decided on a second thread
+/// while the run starts (`windows_suffice`).
+const UNKNOWN: u8 = 0;
+const WINDOWS: u8 = 1;
+const WHOLE: u8 = 2;
+
 /// The run at `substeps` steps per sample with its estimated error, for a
 /// record of at least [`super::steps::SHORTEST_WINDOWED`] samples (see the
-/// module documentation).
+/// module documentation). Whether windows can show its error
+/// (`windows_suffice`, which builds the model's equations and looks for
+/// free directions: 9 ms on a 50-body model) is decided on a second thread
+/// while the run starts; if not, that thread runs the whole record at 2s.
+/// When the run ends, the windows of the final ranking not yet started are
+/// started at once, beside any still running.
 pub(super) fn windowed_check<'w>(
     sim: &Simulator<'_>,
     params: &[f64],
@@ -154,28 +178,44 @@ pub(super) fn windowed_check<'w>(
         squares: vec![0.0; model.sensors.len()],
         launched: vec![false; spans.len()],
     };
-    let (done, busy): (Done, AtomicUsize) = (Mutex::new(Vec::new()), AtomicUsize::new(0));
+    let (done, busy): (Done, AtomicUsize) = (Mutex::new(Vec::new()), AtomicUsize::new(1));
+    let (mode, whole) = (AtomicU8::new(UNKNOWN), Mutex::new(None));
     let (mut run, mut elapsed, mut equilibrium) = (Ok(()), Default::default(), None);
     rayon::scope(|scope| {
-        let (finer, done, busy) = (&finer, &done, &busy);
+        let (finer, done, busy, mode, whole) = (&finer, &done, &busy, &mode, &whole);
+        scope.spawn(move |_| {
+            if windows_suffice(sim, params) {
+                mode.store(WINDOWS, Ordering::Release);
+                busy.fetch_sub(1, Ordering::AcqRel);
+            } else {
+                mode.store(WHOLE, Ordering::Release);
+                let mut fine = finer.response_buffer();
+                let r = finer.run(params, &mut Workspace::default(), &mut fine);
+                *whole.lock().expect("the whole check panicked") = Some(r.map(|()| fine));
+            }
+        });
+        let launch = |p: &mut Progress<'_>, i: usize, eq: Option<Vec<f64>>| {
+            p.launched[i] = true;
+            busy.fetch_add(1, Ordering::AcqRel);
+            let (start, len) = (p.starts[i].clone(), p.spans[i].1);
+            scope.spawn(move |_| {
+                let w = run_window(finer, params, &eq, start, len);
+                done.lock().expect("a window panicked").push((i, w));
+                busy.fetch_sub(1, Ordering::AcqRel);
+            });
+        };
         let mut observer = |at: &SampleView<'_>| {
             if let Some(w) = watch.as_mut() {
                 w(at);
             }
             let p = &mut progress;
             for i in p.observe(at) {
-                if p.launched[i] || busy.load(Ordering::Acquire) != 0 {
+                let last = i + 1 == p.spans.len();
+                let free = busy.load(Ordering::Acquire) == 0;
+                if p.launched[i] || mode.load(Ordering::Acquire) != WINDOWS || !(free || last) {
                     continue;
                 }
-                p.launched[i] = true;
-                busy.fetch_add(1, Ordering::AcqRel);
-                let (start, p_len) = (p.starts[i].clone(), p.spans[i].1);
-                let eq = Some(at.origin.to_vec()).filter(|o| !o.is_empty());
-                scope.spawn(move |_| {
-                    let w = run_window(finer, params, &eq, start, p_len);
-                    done.lock().expect("a window panicked").push((i, w));
-                    busy.fetch_sub(1, Ordering::AcqRel);
-                });
+                launch(p, i, Some(at.origin.to_vec()).filter(|o| !o.is_empty()));
             }
         };
         let mut span = Span {
@@ -186,8 +226,21 @@ pub(super) fn windowed_check<'w>(
         run = sim.run_span(params, &mut Workspace::default(), &mut out, &mut span);
         elapsed = t0.elapsed();
         equilibrium = span.equilibrium;
+        if run.is_ok() && mode.load(Ordering::Acquire) == WINDOWS {
+            let scales = sensor_scales(model, &out);
+            for i in final_ranking(&out, &scales, &spans) {
+                if !progress.launched[i] {
+                    launch(&mut progress, i, equilibrium.clone());
+                }
+            }
+        }
     });
     run?;
+    if mode.into_inner() == WHOLE {
+        let fine = whole.into_inner().expect("the whole check panicked");
+        let fine = fine.expect("the whole check ran")?;
+        return Ok((relative_difference(model, &out, &fine), (out, elapsed)));
+    }
     let done = done.into_inner().expect("a window panicked");
     let e = compare_windows(&finer, params, &out, &progress, done, equilibrium)?;
     Ok((e, (out, elapsed)))
@@ -209,6 +262,16 @@ fn compare_windows(
     let n_samples = model.sampling.n_samples();
     let scales = sensor_scales(model, out);
     let chosen = final_ranking(out, &scales, spans);
+    eprintln!(
+        "{:.1} DBG chosen {chosen:?} of {}",
+        (std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_secs_f64()
+            % 100.0)
+            * 1e3,
+        spans.len()
+    );
     // A window shows the error its span makes only once that error has
     // settled (the modes it excites have decayed many times over): while
     // it still grows across a window, the windows are lengthened, and

@@ -78,7 +78,7 @@ fn checked_run<'w>(
     mut watch: Option<&mut Watcher<'w>>,
 ) -> Result<(f64, ChosenRun), SimulationError> {
     let sim = Simulator::with_integrator(model, integrator(substeps));
-    if model.sampling.n_samples() >= SHORTEST_WINDOWED && windows_suffice(&sim, params) {
+    if model.sampling.n_samples() >= SHORTEST_WINDOWED {
         return super::step_windows::windowed_check(&sim, params, watch);
     }
     let finer = Simulator::with_integrator(model, integrator(2 * substeps));
@@ -118,7 +118,7 @@ fn checked_run<'w>(
 /// feed-axis example the windows said 8.8e-8 at one step per sample for a
 /// true 3.7e-7; on the lathe with an impulse and a chirp ending mid-record
 /// they ranked the impulse's span first and said 6.3e-9 for a true 1.45e-8.
-fn windows_suffice(sim: &Simulator<'_>, params: &[f64]) -> bool {
+pub(super) fn windows_suffice(sim: &Simulator<'_>, params: &[f64]) -> bool {
     let events = (sim.structure().components.iter())
         .any(|c| matches!(c.law, Law::Friction(_) | Law::BoucWen(_)));
     !events
