@@ -13,11 +13,18 @@
 //! among the roughest (a chirp's end) its window ends about one span after
 //! the run instead of two. Starting the window of the span after a leading
 //! one as well, before its own rank is known, was tried and measured no
-//! faster.
-//! Once the run is done the spans are ranked again, exactly, and a window
-//! among the final ones that was not started then is run after it. Which
-//! windows are compared is fixed by the final ranking alone, so the
-//! estimate is the same whatever the threads did.
+//! faster. Once the run is done the spans are ranked again, exactly, and
+//! the windows among the final ones not started yet are started at once,
+//! beside one still running. Which windows are compared is fixed by the
+//! final ranking alone, so the estimate is the same whatever the threads
+//! did.
+//!
+//! Whether windows can show the record's error at all
+//! (`windows_suffice`) is decided on the second thread while the run
+//! starts; where they cannot, that thread runs the whole record at 2s, as
+//! for a short record. On a 50-body machine tool (3000 samples, a chirp
+//! whose last span is the roughest) `rfeid simulate`'s whole process went
+//! from 1.46 to 1.22–1.28 times the run alone.
 use super::integrator::integrator;
 use super::response::Response;
 use super::run::{SampleState, SampleView, Span};
