@@ -143,23 +143,7 @@ impl Shape {
                     false => 0.0,
                 }
             }
-            Shape::Table {
-                times,
-                values,
-                interpolation,
-            } => {
-                let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
-                    return 0.0;
-                };
-                let inside = match before {
-                    true => t > first && !near(t, first) && (t <= last || near(t, last)),
-                    false => (t >= first || near(t, first)) && t < last && !near(t, last),
-                };
-                match inside {
-                    true => table_value(times, values, interpolation, t.clamp(first, last)),
-                    false => 0.0,
-                }
-            }
+            Shape::Table { .. } => self.table_side(t, before, None),
             // It starts at t = 0, where a run starts from rest.
             Shape::Constant => match before {
                 true => f64::from(u8::from(t > 0.0)),
@@ -167,6 +151,34 @@ impl Shape {
             },
             // Continuous: a sine, and a half-sine pulse (zero at both ends).
             Shape::Sine { .. } | Shape::Impulse { .. } => self.at(t),
+        }
+    }
+
+    /// [`Shape::at_side`] of a table (0 for any other shape), with its
+    /// knots per unit time `(n − 1)/(t_last − t_first)` if known (see
+    /// [`FixedSignal`]).
+    fn table_side(&self, t: f64, before: bool, per_time: Option<f64>) -> f64 {
+        let Shape::Table {
+            times,
+            values,
+            interpolation,
+        } = self
+        else {
+            return 0.0;
+        };
+        let near = |a: f64, b: f64| (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs());
+        let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
+            return 0.0;
+        };
+        let inside = match before {
+            true => t > first && !near(t, first) && (t <= last || near(t, last)),
+            false => (t >= first || near(t, first)) && t < last && !near(t, last),
+        };
+        let t = t.clamp(first, last);
+        match (inside, interpolation) {
+            (false, _) => 0.0,
+            (true, Interpolation::Linear) => interpolate(times, values, t, per_time),
+            (true, Interpolation::BandLimited(b)) => b.at(t),
         }
     }
 
@@ -197,18 +209,19 @@ impl Shape {
 /// A table's value at t inside its span.
 fn table_value(times: &[f64], values: &[f64], interpolation: &Interpolation, t: f64) -> f64 {
     match interpolation {
-        Interpolation::Linear => interpolate(times, values, t),
+        Interpolation::Linear => interpolate(times, values, t, None),
         Interpolation::BandLimited(b) => b.at(t),
     }
 }
 
-/// Linear interpolation in a strictly increasing table, 0 outside it.
-fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
+/// Linear interpolation in a strictly increasing table, 0 outside it;
+/// `per_time` as in [`knot_after`].
+fn interpolate(times: &[f64], values: &[f64], t: f64, per_time: Option<f64>) -> f64 {
     let n = times.len();
     if n == 0 || t < times[0] || t > times[n - 1] {
         return 0.0;
     }
-    let j = knot_after(times, t);
+    let j = knot_after(times, t, per_time);
     if j == 0 {
         return values[0];
     }
@@ -223,13 +236,15 @@ fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
 /// The first index j with `times[j] > t` (as `partition_point`), in O(1)
 /// on an evenly spaced table (a record of samples, such as a measured force
 /// of 10⁵ samples, looked up at every stage of every step): j is guessed
-/// from the first and last instants and checked against its neighbours,
-/// else found by bisection. The same j either way, so the same force.
-fn knot_after(times: &[f64], t: f64) -> usize {
+/// from the first instant and the knots per unit time (`per_time`, computed
+/// here if not given) and checked against its neighbours, else found by
+/// bisection. The same j either way, so the same force.
+fn knot_after(times: &[f64], t: f64, per_time: Option<f64>) -> usize {
     let n = times.len();
     if n >= 2 {
         let (first, last) = (times[0], times[n - 1]);
-        let guess = (t - first) / (last - first) * (n - 1) as f64;
+        let per_time = per_time.unwrap_or_else(|| (n - 1) as f64 / (last - first));
+        let guess = (t - first) * per_time;
         if guess >= 0.0 && guess < n as f64 {
             // Truncation is the floor here, without a call to libm.
             let i = guess as usize;
@@ -251,6 +266,51 @@ pub struct Term {
     pub amplitude: Value,
     /// Unit-amplitude time history.
     pub shape: Shape,
+}
+
+/// A signal at fixed parameter values, for evaluation at every stage of a
+/// run: the amplitudes evaluated once, and each linear table's knots per
+/// unit time kept, so that its knot is found by a product rather than a
+/// division. [`FixedSignal::at_side`] equals [`Signal::at_side`] bit for
+/// bit.
+#[derive(Debug, Clone)]
+pub struct FixedSignal<'s> {
+    /// `(A_j, shape_j, knots per unit time of a linear table)`.
+    terms: Vec<(f64, &'s Shape, Option<f64>)>,
+}
+
+impl<'s> FixedSignal<'s> {
+    /// `signal` at the parameter values `p`.
+    pub fn new(signal: &'s Signal, p: &[f64]) -> Self {
+        let per_time = |shape: &Shape| match shape {
+            Shape::Table {
+                times,
+                interpolation: Interpolation::Linear,
+                ..
+            } if times.len() >= 2 => {
+                Some((times.len() - 1) as f64 / (times[times.len() - 1] - times[0]))
+            }
+            _ => None,
+        };
+        let terms = (signal.terms.iter())
+            .map(|term| (term.amplitude.eval(p), &term.shape, per_time(&term.shape)))
+            .collect();
+        FixedSignal { terms }
+    }
+
+    /// P(t) as the limit from before or after t ([`Signal::at_side`]).
+    #[inline]
+    pub fn at_side(&self, t: f64, before: bool) -> f64 {
+        (self.terms.iter())
+            .map(|&(amplitude, shape, per_time)| {
+                amplitude
+                    * match per_time {
+                        Some(_) => shape.table_side(t, before, per_time),
+                        None => shape.at_side(t, before),
+                    }
+            })
+            .sum()
+    }
 }
 
 /// P(t) = Σ_j A_j · shape_j(t).
@@ -318,10 +378,57 @@ mod tests {
                 .chain(times.iter().map(|t| t * (1.0 - 1e-15)));
             for t in probes.filter(|t| (0.0..=last).contains(t)) {
                 assert_eq!(
-                    knot_after(&times, t),
+                    knot_after(&times, t, None),
                     times.partition_point(|&x| x <= t),
                     "t = {t}"
                 );
+            }
+        }
+    }
+
+    /// A signal at fixed parameters gives the same forces, bit for bit, as
+    /// the signal evaluated with them, from both sides, at and between the
+    /// knots of even and uneven tables, with the knot guessed by a product.
+    #[test]
+    fn a_fixed_signal_equals_the_signal_bit_for_bit() {
+        let rate = 610.3515625;
+        let even: Vec<f64> = (0..500).map(|k| k as f64 / rate).collect();
+        let uneven: Vec<f64> = (0..500).map(|k| (k as f64).powf(1.5) * 1e-3).collect();
+        let values: Vec<f64> = (0..500).map(|k| (k as f64 * 0.37).sin()).collect();
+        let term = |amplitude: Value, shape: Shape| Term { amplitude, shape };
+        let signal = Signal {
+            kind: "test",
+            terms: vec![
+                term(
+                    Value::Param(0),
+                    Shape::linear_table(even.clone(), values.clone()),
+                ),
+                term(
+                    Value::Fixed(-0.3),
+                    Shape::linear_table(uneven.clone(), values),
+                ),
+                term(Value::Param(1), Shape::Constant),
+                term(
+                    Value::Fixed(2.0),
+                    Shape::Chirp {
+                        f0: 1.0,
+                        f1: 40.0,
+                        duration: 0.5,
+                    },
+                ),
+            ],
+        };
+        let p = [1.7, -4.1];
+        let fixed = FixedSignal::new(&signal, &p);
+        let last = uneven[499].max(even[499]);
+        let probes = (0..=20_000)
+            .map(|i| last * i as f64 / 20_000.0 - 0.01)
+            .chain(even.iter().chain(&uneven).copied())
+            .chain(even.iter().map(|t| t * (1.0 + 1e-15)));
+        for t in probes {
+            for before in [true, false] {
+                let (a, b) = (signal.at_side(t, &p, before), fixed.at_side(t, before));
+                assert_eq!(a.to_bits(), b.to_bits(), "t = {t}, before {before}");
             }
         }
     }

@@ -40,19 +40,36 @@ pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     sines: Option<StageSines>,
     locate: bool,
     /// The nonzero `a_ij` of each stage, as (j, a_ij).
-    a_nz: Vec<Vec<(usize, f64)>>,
+    a_nz: Vec<Coefs>,
     /// The nonzero `b_i`, as (i, b_i).
-    b_nz: Vec<(usize, f64)>,
+    b_nz: Coefs,
     kernel: PhantomData<(M, D)>,
 }
 
+/// The nonzero entries `(j, a_j)` of a row of coefficients, in increasing
+/// j, with the number of stages they reach (the last j + 1), so that
+/// [`stages_fit`] is one product rather than one per entry (it is checked
+/// at every stage sum).
+struct Coefs {
+    terms: Vec<(usize, f64)>,
+    stages: usize,
+}
+
+impl std::ops::Deref for Coefs {
+    type Target = [(usize, f64)];
+    fn deref(&self) -> &[(usize, f64)] {
+        &self.terms
+    }
+}
+
 /// The nonzero entries of a row of coefficients.
-fn nonzero(row: &[f64]) -> Vec<(usize, f64)> {
-    row.iter()
-        .enumerate()
+fn nonzero(row: &[f64]) -> Coefs {
+    let terms: Vec<(usize, f64)> = (row.iter().enumerate())
         .filter(|(_, v)| **v != 0.0)
         .map(|(j, v)| (j, *v))
-        .collect()
+        .collect();
+    let stages = terms.last().map_or(0, |(j, _)| j + 1);
+    Coefs { terms, stages }
 }
 
 impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
@@ -321,7 +338,7 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
 /// eight, one) elements at a time with the sum over the stages in registers
 /// (one pass over the output, not one per stage).
 #[inline(always)]
-fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize, out: &mut [f64]) {
+fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &mut [f64]) {
     assert!(stages_fit(k, a, len));
     let mut e0 = 0;
     // SAFETY (each call): the stages of `a` lie in `k` (asserted) and each
@@ -342,7 +359,7 @@ fn combine<M: Madd>(y: &[f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize
 
 /// `y += h Σ_j a_j k_j`, like [`combine`].
 #[inline(always)]
-fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len: usize) {
+fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &Coefs, h: f64, len: usize) {
     assert!(stages_fit(k, a, len));
     let mut e0 = 0;
     // SAFETY: as in `combine`.
@@ -361,9 +378,10 @@ fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &[(usize, f64)], h: f64, len
 
 /// Whether every stage j of `a` lies in `k`: `(j + 1)·len ≤ k.len()`.
 #[inline(always)]
-fn stages_fit(k: &[f64], a: &[(usize, f64)], len: usize) -> bool {
-    a.iter()
-        .all(|&(j, _)| (j + 1).checked_mul(len).is_some_and(|end| end <= k.len()))
+fn stages_fit(k: &[f64], a: &Coefs, len: usize) -> bool {
+    (a.stages)
+        .checked_mul(len)
+        .is_some_and(|end| end <= k.len())
 }
 
 /// `out[e0..e0 + W] = y[e0..e0 + W] + h Σ_j a_j k_j[e0..e0 + W]`.
@@ -374,7 +392,7 @@ fn stages_fit(k: &[f64], a: &[(usize, f64)], len: usize) -> bool {
 unsafe fn combine_chunk<M: Madd, const W: usize>(
     y: &[f64],
     k: &[f64],
-    a: &[(usize, f64)],
+    a: &Coefs,
     h: f64,
     len: usize,
     e0: usize,
@@ -396,7 +414,7 @@ unsafe fn combine_chunk<M: Madd, const W: usize>(
 unsafe fn accumulate_chunk<M: Madd, const W: usize>(
     y: &mut [f64],
     k: &[f64],
-    a: &[(usize, f64)],
+    a: &Coefs,
     h: f64,
     len: usize,
     e0: usize,
@@ -414,17 +432,18 @@ unsafe fn accumulate_chunk<M: Madd, const W: usize>(
 ///
 /// # Safety
 /// `e0 + W ≤ len` and, for every `(j, _)` in `a`, `(j + 1)·len ≤ k.len()`
-/// ([`stages_fit`]).
+/// ([`stages_fit`]: `a.stages` is the last j + 1, and [`nonzero`], which
+/// alone builds a [`Coefs`], keeps the terms in increasing j).
 #[inline(always)]
 unsafe fn stage_sum<M: Madd, const W: usize>(
     k: &[f64],
-    a: &[(usize, f64)],
+    a: &Coefs,
     len: usize,
     e0: usize,
 ) -> [f64; W] {
     debug_assert!(e0 + W <= len && stages_fit(k, a, len));
     let mut s = [0.0; W];
-    for &(j, aj) in a {
+    for &(j, aj) in a.iter() {
         let start = j * len + e0;
         // SAFETY: start + W ≤ j·len + len ≤ k.len() by the preconditions.
         let kj = unsafe { k.get_unchecked(start..start + W) };

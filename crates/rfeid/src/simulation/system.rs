@@ -19,7 +19,7 @@ use super::sparse::{prefer_sparse, sparse_accel, sparse_components, sparse_group
 use super::sparse::{SparseComp, SparseGroup, SparsePower};
 use super::structure::{Row, Structure};
 use super::SimulationError;
-use crate::model::{Law, Model, Signal};
+use crate::model::{FixedSignal, Law, Model, Signal};
 
 /// A power-law spring row: `f = a · sign(δ) · |δ|^m`, `δ = row · q`.
 #[derive(Debug, Clone)]
@@ -101,6 +101,8 @@ pub struct System<'a> {
     /// after either kernel ([`friction_accel`]); their springs and dampers
     /// are in the kernels' linear parts.
     pub(crate) frictions: Vec<FrictionRow>,
+    /// The excitation signals at the parameter values, one per excitation.
+    pub(crate) signals: Vec<FixedSignal<'a>>,
     /// The Bouc–Wen components, in component order, each with an internal
     /// state z that the stepper integrates beside `[q; q̇]` (`hysteresis`).
     pub(crate) hysteresis: Vec<HysteresisRow>,
@@ -153,6 +155,9 @@ impl<'a> System<'a> {
             minv_load_blocks,
             frictions,
             hysteresis,
+            signals: (model.excitations.iter())
+                .map(|e| FixedSignal::new(&e.signal, params))
+                .collect(),
             structure,
             model,
             params: params.to_vec(),
@@ -262,8 +267,8 @@ impl<'a> System<'a> {
     /// ([`crate::model::Shape::at_side`]), into `forces`.
     #[inline(always)]
     pub fn forces_side(&self, t: f64, before: bool, forces: &mut [f64]) {
-        for (f, s) in forces.iter_mut().zip(self.signals()) {
-            *f = s.at_side(t, &self.params, before);
+        for (f, s) in forces.iter_mut().zip(&self.signals) {
+            *f = s.at_side(t, before);
         }
     }
 
@@ -357,12 +362,13 @@ impl<'a> System<'a> {
         }
         // q̈ = base + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
         let (ny, nf) = (2 * n, slots);
-        for ((panel, g), rows) in self
-            .a_ext
-            .chunks_exact(4 * self.ext_cols)
-            .zip(&self.gravity_panels)
+        let width = 4 * self.ext_cols;
+        for (p, (g, rows)) in (self.gravity_panels.iter())
             .zip(acc.chunks_mut(4))
+            .enumerate()
         {
+            // Sliced by products: `chunks_exact` would divide at every call.
+            let panel = &self.a_ext[p * width..(p + 1) * width];
             let (py, rest) = panel.split_at(4 * ny);
             let (pf, pl) = rest.split_at(4 * nf);
             // Two accumulator sets (even and odd columns) halve the add chain.

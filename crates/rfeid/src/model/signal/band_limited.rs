@@ -376,7 +376,7 @@ mod tests {
         };
         (
             worst(&|t| bl.at(t)),
-            worst(&|t| super::super::interpolate(&times, &values, t)),
+            worst(&|t| super::super::interpolate(&times, &values, t, None)),
         )
     }
 
