@@ -211,6 +211,34 @@ impl FreeSet {
 }
 
 impl FreeSet {
+    /// Whether no motion along a free direction can ever start: every
+    /// element's row, damper and friction rows included, is orthogonal to
+    /// each free motion v (`b · v = 0`), and so is every excitation's load
+    /// (`l · v = 0`) and the weights. Then `vᵀ M q̈ = 0` at every state, a
+    /// run from rest never moves along v, and neither does the error of its
+    /// steps (an explicit Runge–Kutta step keeps linear invariants): such
+    /// directions, say the five unrestrained and unloaded coordinates of a
+    /// one-body model driven and restrained along x alone, are not where a
+    /// step error can add up. Zero means below 1e-9 of `|b| |v|`.
+    pub fn inert(&self, sys: &System<'_>) -> bool {
+        let orthogonal = |row: &[f64], v: &[f64]| {
+            let (dot, rr, vv) = (row.iter().zip(v)).fold((0.0, 0.0, 0.0), |(d, r, w), (a, b)| {
+                (d + a * b, r + a * a, w + b * b)
+            });
+            dot.abs() <= 1e-9 * (rr * vv).sqrt()
+        };
+        let n = self.sqrt_m.len();
+        let rows: Vec<Vec<f64>> = (sys.structure.components.iter())
+            .map(|c| c.row.dense(n))
+            .chain(sys.structure.loads.iter().cloned())
+            .collect();
+        let still = self.orthonormal.iter().all(|x| {
+            let v: Vec<f64> = x.iter().zip(&self.sqrt_m).map(|(x, s)| x / s).collect();
+            rows.iter().all(|row| orthogonal(row, &v))
+        });
+        still && self.gravity_load(sys).is_none()
+    }
+
     /// [`SimulationError::FreeUnderGravity`] naming the free direction the
     /// weights pull along hardest, if any ([`Self::gravity_load`]).
     pub fn check_gravity(&self, sys: &System<'_>) -> Result<(), SimulationError> {

@@ -160,3 +160,47 @@ fn the_free_space_is_the_null_space_of_the_spring_rows() {
         }
     }
 }
+
+/// A body restrained and driven along x alone at its centre of mass is free
+/// along its five other coordinates, and nothing can move it along them:
+/// inert. A damper across one of them, a load along one, or gravity along
+/// one is not.
+#[test]
+fn free_directions_nothing_acts_along_are_inert() {
+    let drive = "[[excitation]]\nname = \"f\"\nbody = \"carriage\"\nat = [0, 0, 0.2]\n\
+                 direction = DIR\nsignal = { type = \"sine\", amplitude = 1.0, frequency = 10.0 }\n";
+    let inert = |at: &str, components: &str, dir: &str, gravity: bool| {
+        let text = model_text(at, components, &drive.replace("DIR", dir));
+        let text = match gravity {
+            true => format!("gravity = [0.0, 0.0, -9.81]\n{text}"),
+            false => text,
+        };
+        let m = parse_model(&text, Path::new("test.toml")).unwrap_or_else(|e| panic!("{e}"));
+        let sim = Simulator::with_integrator(&m, integrator(1));
+        let sys = sim.system(&m.nominal()).unwrap();
+        let free = free_directions(&sys);
+        assert_eq!(free.len(), 5, "{:?}", free.descriptions(&m));
+        free.inert(&sys)
+    };
+    let centre = "[0.0, 0.0, 0.2]";
+    assert!(inert(
+        centre,
+        "ux = { k = 1e6, c = 10.0 }",
+        "[1, 0, 0]",
+        false
+    ));
+    // A damper about z: it vanishes at rest, so z stays free, but it acts.
+    let damped = "ux = { k = 1e6, c = 10.0 }\nrz = { c = 5.0 }";
+    assert!(!inert(centre, damped, "[1, 0, 0]", false));
+    // A load with a part along y.
+    assert!(!inert(centre, "ux = { k = 1e6 }", "[1, 1, 0]", false));
+    // The weight along the free z.
+    assert!(!inert(centre, "ux = { k = 1e6 }", "[1, 0, 0]", true));
+    // The spring off the centre of mass couples x to a rotation.
+    assert!(!inert(
+        "[0.0, 0.3, 0.2]",
+        "ux = { k = 1e6 }",
+        "[1, 0, 0]",
+        false
+    ));
+}
