@@ -17,11 +17,24 @@ pub(crate) trait Dim: Copy {
 
     /// n, given the run-time value (which a fixed size must equal).
     fn n(runtime: usize) -> usize;
+
+    /// How many leading coordinates the kernels integrate, given the
+    /// system's reach (`System::active`, ≤ n): all n with [`Fixed`], whose
+    /// loops then keep their constant bounds, the reach with [`Reach`] and
+    /// [`Dynamic`].
+    fn reach(active: usize, n: usize) -> usize;
 }
 
 /// n known at compile time.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Fixed<const N: usize>;
+
+/// n known at compile time, of which only the leading `System::active`
+/// coordinates move: one body restrained and driven along x alone (the
+/// Silverbox) integrates 2 of its 12 states. A separate kernel, so that
+/// [`Fixed`] keeps its constant loop bounds.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Reach<const N: usize>;
 
 /// n known at run time only.
 #[derive(Debug, Clone, Copy)]
@@ -35,6 +48,26 @@ impl<const N: usize> Dim for Fixed<N> {
         debug_assert_eq!(runtime, N);
         N
     }
+
+    #[inline(always)]
+    fn reach(_: usize, _: usize) -> usize {
+        N
+    }
+}
+
+impl<const N: usize> Dim for Reach<N> {
+    const SPARSE: bool = false;
+
+    #[inline(always)]
+    fn n(runtime: usize) -> usize {
+        debug_assert_eq!(runtime, N);
+        N
+    }
+
+    #[inline(always)]
+    fn reach(active: usize, _: usize) -> usize {
+        active.min(N)
+    }
 }
 
 impl Dim for Dynamic {
@@ -43,5 +76,10 @@ impl Dim for Dynamic {
     #[inline(always)]
     fn n(runtime: usize) -> usize {
         runtime
+    }
+
+    #[inline(always)]
+    fn reach(active: usize, n: usize) -> usize {
+        active.min(n)
     }
 }

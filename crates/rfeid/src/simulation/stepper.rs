@@ -233,11 +233,12 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// Stages 1.. of the state and `y_new = y + h Σ b_i k_i`.
     #[inline(always)]
     fn state_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
-        let n2 = 2 * D::n(self.sys.n);
+        let n = D::n(self.sys.n);
+        let (n2, sizes) = (2 * n, (n, D::reach(self.sys.active, n)));
         for i in 1..self.tab.stages() {
             {
                 let (done, rest) = ws.y_stage.split_at_mut(i * n2);
-                combine::<M>(&ws.y, &ws.k, &self.a_nz[i], h, n2, &mut rest[..n2]);
+                combine_state::<M>(&ws.y, &ws.k, &self.a_nz[i], h, sizes, &mut rest[..n2]);
                 let _ = done;
             }
             let nz = ws.z.y.len();
@@ -256,7 +257,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             }
             self.derivative(ws, i, ti);
         }
-        combine::<M>(&ws.y, &ws.k, &self.b_nz, h, n2, &mut ws.y_new);
+        combine_state::<M>(&ws.y, &ws.k, &self.b_nz, h, sizes, &mut ws.y_new);
         let nz = ws.z.y.len();
         if nz > 0 {
             combine::<M>(&ws.z.y, &ws.z.k, &self.b_nz, h, nz, &mut ws.z.y_new);
@@ -354,6 +355,46 @@ fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &m
     // The remainder, one element at a time.
     for e in e0..len {
         unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
+    }
+}
+
+/// [`combine`] over the elements `from..to` of stages `len` long only.
+#[inline(always)]
+fn combine_range<M: Madd>(
+    y: &[f64],
+    k: &[f64],
+    a: &Coefs,
+    h: f64,
+    len: usize,
+    (from, to): (usize, usize),
+    out: &mut [f64],
+) {
+    assert!(stages_fit(k, a, len) && to <= len && y.len() >= to && out.len() >= to);
+    // SAFETY (each call): the stages of `a` lie in `k` (asserted) and each
+    // element is below `to` ≤ len.
+    for e in from..to {
+        unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
+    }
+}
+
+/// `out = y + h Σ_j a_j k_j` for the state `[q; q̇]` (n each) over the
+/// coordinates the motion reaches (the first `reach` of each half, see
+/// `System::active`); the others stay at zero in y and k, and are left as
+/// they are (zero) in `out`.
+#[inline(always)]
+fn combine_state<M: Madd>(
+    y: &[f64],
+    k: &[f64],
+    a: &Coefs,
+    h: f64,
+    (n, reach): (usize, usize),
+    out: &mut [f64],
+) {
+    if reach == n {
+        combine::<M>(y, k, a, h, 2 * n, out);
+    } else {
+        combine_range::<M>(y, k, a, h, 2 * n, (0, reach), out);
+        combine_range::<M>(y, k, a, h, 2 * n, (n, n + reach), out);
     }
 }
 

@@ -82,6 +82,14 @@ pub struct System<'a> {
     /// the run moves about the static equilibrium, whose elastic forces
     /// balance the weights ([`Self::set_reference`]).
     pub(crate) base: Vec<f64>,
+    /// The dense kernel's reach: 1 + the last coordinate whose acceleration
+    /// can differ from zero (a term of K, C, the power laws, a load or the
+    /// weight in its row); n with friction or hysteresis, or before the
+    /// dense panels are built. A coordinate past it stays at rest: its row
+    /// of the accelerations is zero, and by the symmetry of K, C and
+    /// `B_pᵀ f(B_p q)` so is its column in every other row. The kernels
+    /// with [`super::dim::Reach`] or n at run time skip such coordinates.
+    pub(crate) active: usize,
     /// `∂q₀/∂x` of the static equilibrium moved about, n × r row-major
     /// (empty without one, or without sensitivities).
     pub(crate) static_dq: Vec<f64>,
@@ -144,6 +152,7 @@ impl<'a> System<'a> {
             power_square: false,
             power_preloaded: false,
             base: minv_gravity.clone(),
+            active: n,
             static_dq: Vec::new(),
             a_ext: Aligned::default(),
             ext_cols: 0,
@@ -242,12 +251,27 @@ impl<'a> System<'a> {
             }
             gravity_panels[i / 4][i % 4] = self.base[i];
         }
+        self.active = self.reach(&a_ext, ext_cols);
         self.power_square = power_am.iter().all(|(_, m)| *m == 2.0);
         self.power_preloaded = power_pre.iter().any(|p| p.d0 != 0.0);
         (self.power_b, self.a_ext) = (Aligned::from_slice(&power_b), Aligned::from_slice(&a_ext));
         self.power_am = power_am;
         self.power_pre = power_pre;
         (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
+    }
+
+    /// [`Self::active`] from the dense panels `a_ext` (`ext_cols` columns)
+    /// and the weight.
+    fn reach(&self, a_ext: &[f64], ext_cols: usize) -> usize {
+        let n = self.n;
+        if !self.frictions.is_empty() || !self.hysteresis.is_empty() {
+            return n;
+        }
+        let moves = |i: usize| {
+            self.base[i] != 0.0
+                || (0..ext_cols).any(|j| a_ext[((i / 4) * ext_cols + j) * 4 + i % 4] != 0.0)
+        };
+        (0..n).rev().find(|&i| moves(i)).map_or(0, |i| i + 1)
     }
 
     /// The excitation signals.
@@ -327,6 +351,7 @@ impl<'a> System<'a> {
         acc: &mut [f64],
     ) {
         let n = D::n(self.n);
+        let na = D::reach(self.active, n);
         let slots = self.power_am.len();
         let fp = &mut scratch[..slots];
         // The power-law forces four at a time: δ = B q for the panel, then
@@ -340,7 +365,7 @@ impl<'a> System<'a> {
             .zip(fp.chunks_exact_mut(4))
         {
             let mut d = [0.0; 4];
-            for (b, &qj) in panel.chunks_exact(4).zip(&y[..n]) {
+            for (b, &qj) in panel.chunks_exact(4).zip(&y[..na]) {
                 for i in 0..4 {
                     d[i] = M::madd(b[i], qj, d[i]);
                 }
@@ -363,8 +388,9 @@ impl<'a> System<'a> {
         // q̈ = base + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
         let (ny, nf) = (2 * n, slots);
         let width = 4 * self.ext_cols;
+        let reached = (4 * na.div_ceil(4)).min(n);
         for (p, (g, rows)) in (self.gravity_panels.iter())
-            .zip(acc.chunks_mut(4))
+            .zip(acc[..reached].chunks_mut(4))
             .enumerate()
         {
             // Sliced by products: `chunks_exact` would divide at every call.
@@ -373,13 +399,20 @@ impl<'a> System<'a> {
             let (pf, pl) = rest.split_at(4 * nf);
             // Two accumulator sets (even and odd columns) halve the add chain.
             let (mut s, mut t) = (*g, [0.0; 4]);
-            panel_madd::<M>(py, y, &mut s, &mut t);
+            if na == n {
+                panel_madd::<M>(py, y, &mut s, &mut t);
+            } else {
+                panel_madd::<M>(&py[..4 * na], &y[..na], &mut s, &mut t);
+                panel_madd::<M>(&py[4 * n..4 * (n + na)], &y[n..n + na], &mut s, &mut t);
+            }
             panel_madd::<M>(pf, fp, &mut s, &mut t);
             panel_madd::<M>(pl, forces, &mut s, &mut t);
             for (r, (a, b)) in rows.iter_mut().zip(s.iter().zip(&t)) {
                 *r = a + b;
             }
         }
+        // The coordinates out of reach have no acceleration.
+        acc[reached..n].fill(0.0);
     }
 
     /// The tangent stiffness `K_t = K + Σ f'(δ_i) B_iᵀ B_i` at `q` (dense n×n,
