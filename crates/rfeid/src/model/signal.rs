@@ -174,11 +174,14 @@ impl Shape {
             true => t > first && !near(t, first) && (t <= last || near(t, last)),
             false => (t >= first || near(t, first)) && t < last && !near(t, last),
         };
-        let t = t.clamp(first, last);
+        // Clamped only inside: a table whose ends are not in order (built
+        // by hand; a file's are checked) is zero, as `at` gives it.
         match (inside, interpolation) {
             (false, _) => 0.0,
-            (true, Interpolation::Linear) => interpolate(times, values, t, per_time),
-            (true, Interpolation::BandLimited(b)) => b.at(t),
+            (true, Interpolation::Linear) => {
+                interpolate(times, values, t.clamp(first, last), per_time)
+            }
+            (true, Interpolation::BandLimited(b)) => b.at(t.clamp(first, last)),
         }
     }
 

@@ -70,6 +70,13 @@ impl<'m> Simulator<'m> {
             Kernel::Dense => false,
             Kernel::Sparse => true,
         });
+        if span
+            .start
+            .as_ref()
+            .is_some_and(|s| sys.moves_past_reach(&s.y))
+        {
+            sys.integrate_every_coordinate();
+        }
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
         {
@@ -523,6 +530,8 @@ mod reach_tests {
              signal = {{ type = \"chirp\", amplitude = 20.0, f0 = 5.0, f1 = 150.0 }}\n\n\
              [[sensor]]\nname = \"x\"\nbody = \"mass\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
              quantity = \"acceleration\"\n\n\
+             [[sensor]]\nname = \"y\"\nbody = \"mass\"\nat = [0, 0, 0]\ndirection = [0, 1, 0]\n\
+             quantity = \"displacement\"\n\n\
              [[parameter]]\nname = \"k1\"\nvalue = 4e5\nmin = 1e5\nmax = 1e6\n\n\
              [[parameter]]\nname = \"k3\"\nvalue = 5e9\nmin = 1e9\nmax = 1e10\n"
         );
@@ -566,5 +575,30 @@ mod reach_tests {
         assert_eq!(bits(&alone), bits(&with_springs));
         assert!(sens_alone.iter().any(|v| *v != 0.0));
         assert_eq!(bits(&sens_alone), bits(&sens_springs));
+    }
+
+    /// A run from a caller's state that moves past the reach (here the body
+    /// drifting along y at 1 m/s, which nothing restrains) integrates every
+    /// coordinate: y advances as q̇ t.
+    #[test]
+    fn a_start_that_moves_past_the_reach_integrates_every_coordinate() {
+        let m = one_body("");
+        let sim = Simulator::new(&m);
+        let mut y = vec![0.0; 12];
+        y[6 + 1] = 1.0;
+        let mut span = Span {
+            start: Some(SampleState {
+                sample: 100,
+                y,
+                z: Vec::new(),
+            }),
+            samples: Some(201),
+            ..Span::default()
+        };
+        let mut out = Response::zeros(0, 0);
+        sim.run_span(&m.nominal(), &mut Workspace::default(), &mut out, &mut span)
+            .unwrap();
+        let drift = out.sensor(1)[200];
+        assert!((drift - 0.2).abs() < 1e-12, "q_y after 0.2 s: {drift}");
     }
 }

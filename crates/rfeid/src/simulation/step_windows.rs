@@ -14,8 +14,9 @@
 //! the run instead of two. Starting the window of the span after a leading
 //! one as well, before its own rank is known, was tried and measured no
 //! faster. Once the run is done the spans are ranked again, exactly, and
-//! the windows among the final ones not started yet are started at once,
-//! beside one still running. Which windows are compared is fixed by the
+//! the windows among the final ones not started yet are started at once
+//! (if the second thread has decided by then that windows apply), beside
+//! one still running. Which windows are compared is fixed by the
 //! final ranking alone, so the estimate is the same whatever the threads
 //! did.
 //!
@@ -269,16 +270,6 @@ fn compare_windows(
     let n_samples = model.sampling.n_samples();
     let scales = sensor_scales(model, out);
     let chosen = final_ranking(out, &scales, spans);
-    eprintln!(
-        "{:.1} DBG chosen {chosen:?} of {}",
-        (std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .unwrap()
-            .as_secs_f64()
-            % 100.0)
-            * 1e3,
-        spans.len()
-    );
     // A window shows the error its span makes only once that error has
     // settled (the modes it excites have decayed many times over): while
     // it still grows across a window, the windows are lengthened, and

@@ -13,9 +13,11 @@
 //! A record shorter than [`SHORTEST_WINDOWED`] samples is run whole at s
 //! and 2s, at the same time where a second thread is free, and so is a
 //! longer one whose errors can persist past any window: a motion no spring
-//! restrains, friction, hysteresis ([`windows_suffice`]). Otherwise a long
-//! record is not run twice (`step_windows`): the run at s keeps its state at the start
-//! of each of 32 spans ([`check_spans`]), and the two spans where its
+//! restrains (unless nothing can act along it), friction, hysteresis, a
+//! kink in the excitation ([`windows_suffice`], decided on the second
+//! thread while the run starts). Otherwise a long record is not run twice
+//! (`step_windows`): the run at s keeps its state at the start of each of
+//! 32 spans ([`check_spans`]), and the two spans where its
 //! response varies fastest, which is where the error is made (a chirp's top
 //! frequencies, a shock), are run again at 2s from those states and
 //! compared over their samples ([`windowed_difference`]), most of them on

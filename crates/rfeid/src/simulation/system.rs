@@ -85,11 +85,15 @@ pub struct System<'a> {
     /// The dense kernel's reach: 1 + the last coordinate whose acceleration
     /// can differ from zero (a term of K, C, the power laws, a load or the
     /// weight in its row); n with friction or hysteresis, or before the
-    /// dense panels are built. A coordinate past it stays at rest: its row
-    /// of the accelerations is zero, and by the symmetry of K, C and
-    /// `B_pᵀ f(B_p q)` so is its column in every other row. The kernels
+    /// dense panels are built. A coordinate past it stays at rest from
+    /// rest: its row of the accelerations is zero, and since M is diagonal
+    /// and K, C and `B_pᵀ f(B_p q)` are symmetric in their coupling, so is
+    /// its column in every other row. The kernels
     /// with [`super::dim::Reach`] or n at run time skip such coordinates.
     pub(crate) active: usize,
+    /// Whether every coordinate is integrated whatever the rows say
+    /// ([`Self::integrate_every_coordinate`]).
+    every: bool,
     /// `∂q₀/∂x` of the static equilibrium moved about, n × r row-major
     /// (empty without one, or without sensitivities).
     pub(crate) static_dq: Vec<f64>,
@@ -153,6 +157,7 @@ impl<'a> System<'a> {
             power_preloaded: false,
             base: minv_gravity.clone(),
             active: n,
+            every: false,
             static_dq: Vec::new(),
             a_ext: Aligned::default(),
             ext_cols: 0,
@@ -260,11 +265,28 @@ impl<'a> System<'a> {
         (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
     }
 
+    /// Integrates every coordinate from now on ([`Self::active`] n): for a
+    /// run from a state that moves past the reach, which a run from rest
+    /// never does (a caller's own [`super::SampleState`]).
+    pub(crate) fn integrate_every_coordinate(&mut self) {
+        self.every = true;
+        self.active = self.n;
+    }
+
+    /// Whether the state `y = [q; q̇]` has a nonzero coordinate past
+    /// [`Self::active`].
+    pub(crate) fn moves_past_reach(&self, y: &[f64]) -> bool {
+        let (n, a) = (self.n, self.active.min(self.n));
+        y.get(a..n).is_some_and(|q| q.iter().any(|v| *v != 0.0))
+            || y.get(n + a..2 * n)
+                .is_some_and(|v| v.iter().any(|v| *v != 0.0))
+    }
+
     /// [`Self::active`] from the dense panels `a_ext` (`ext_cols` columns)
     /// and the weight.
     fn reach(&self, a_ext: &[f64], ext_cols: usize) -> usize {
         let n = self.n;
-        if !self.frictions.is_empty() || !self.hysteresis.is_empty() {
+        if self.every || !self.frictions.is_empty() || !self.hysteresis.is_empty() {
             return n;
         }
         let moves = |i: usize| {
