@@ -14,10 +14,10 @@
 //! and 2s, at the same time where a second thread is free, and so is a
 //! longer one whose errors can persist past any window: a motion no spring
 //! restrains (unless nothing can act along it), friction, hysteresis, a
-//! kink in the excitation ([`windows_suffice`], decided on the second
-//! thread while the run starts). Otherwise a long record is not run twice
-//! (`step_windows`): the run at s keeps its state at the start of each of
-//! 32 spans ([`check_spans`]), and the two spans where its
+//! kink in the excitation (`step_windows::windows_suffice`, decided on
+//! the second thread while the run starts). Otherwise a long record is
+//! not run twice (`step_windows`): the run at s keeps its state at the
+//! start of each of 32 spans ([`check_spans`]), and the two spans where its
 //! response varies fastest, which is where the error is made (a chirp's top
 //! frequencies, a shock), are run again at 2s from those states and
 //! compared over their samples ([`windowed_difference`]), most of them on
@@ -46,7 +46,7 @@ use super::simulator::Simulator;
 use super::step_choice::StepChoice;
 use super::workspace::Workspace;
 use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
-use crate::model::{Law, Model};
+use crate::model::Model;
 use std::time::Instant;
 
 pub use super::integrator::integrator;
@@ -106,35 +106,6 @@ fn checked_run<'w>(
     });
     let (elapsed, fine) = (elapsed?, fine?);
     Ok((relative_difference(model, &out, &fine), (out, elapsed)))
-}
-
-/// Whether a window can show the error a run makes, so that a long record
-/// may be checked on windows: every motion restrained by a spring (an error
-/// made along a free direction, say a feed axis held by friction alone,
-/// is never restored and adds up over the record) unless no force can act
-/// along it ([`super::free::FreeSet::inert`]), no friction or
-/// hysteresis (their stick and reversal events make errors that persist
-/// past a window), and no kink or jump in the excitation within the record
-/// (an impulse's edges, a chirp's end, a table's knots: there the steps
-/// are split and make no error, but the response's fourth differences,
-/// which rank the spans, are large). A linear table on the sample grid
-/// splits no step, but on the Silverbox (a measured input) the windows
-/// estimate 3× the whole record's difference (2.9e-7 against 9.7e-8 at one
-/// step per sample, a true 9.8e-8), and at the identification's start
-/// that crossed its tolerance of 1e-6: two steps per sample, the search
-/// twice as costly. Measured before these rules: on the
-/// feed-axis example the windows said 8.8e-8 at one step per sample for a
-/// true 3.7e-7; on the lathe with an impulse and a chirp ending mid-record
-/// they ranked the impulse's span first and said 6.3e-9 for a true 1.45e-8.
-pub(super) fn windows_suffice(sim: &Simulator<'_>, params: &[f64]) -> bool {
-    let events = (sim.structure().components.iter())
-        .any(|c| matches!(c.law, Law::Friction(_) | Law::BoucWen(_)));
-    !events
-        && sim.breakpoints.is_empty()
-        && sim.system(params).is_ok_and(|sys| {
-            let free = super::free::free_directions(&sys);
-            free.is_empty() || free.inert(&sys)
-        })
 }
 
 /// The estimated relative RMS error of the response at `params` with
