@@ -340,22 +340,7 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
 /// (one pass over the output, not one per stage).
 #[inline(always)]
 fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &mut [f64]) {
-    assert!(stages_fit(k, a, len));
-    let mut e0 = 0;
-    // SAFETY (each call): the stages of `a` lie in `k` (asserted) and each
-    // chunk ends within len (the loop conditions).
-    while e0 + 32 <= len {
-        unsafe { combine_chunk::<M, 32>(y, k, a, h, len, e0, out) };
-        e0 += 32;
-    }
-    while e0 + 8 <= len {
-        unsafe { combine_chunk::<M, 8>(y, k, a, h, len, e0, out) };
-        e0 += 8;
-    }
-    // The remainder, one element at a time.
-    for e in e0..len {
-        unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
-    }
+    combine_range::<M>(y, k, a, h, len, (0, len), out);
 }
 
 /// [`combine`] over the elements `from..to` of stages `len` long only.
@@ -370,9 +355,19 @@ fn combine_range<M: Madd>(
     out: &mut [f64],
 ) {
     assert!(stages_fit(k, a, len) && to <= len && y.len() >= to && out.len() >= to);
+    let mut e0 = from;
     // SAFETY (each call): the stages of `a` lie in `k` (asserted) and each
-    // element is below `to` ≤ len.
-    for e in from..to {
+    // chunk ends within `to` ≤ len (the loop conditions).
+    while e0 + 32 <= to {
+        unsafe { combine_chunk::<M, 32>(y, k, a, h, len, e0, out) };
+        e0 += 32;
+    }
+    while e0 + 8 <= to {
+        unsafe { combine_chunk::<M, 8>(y, k, a, h, len, e0, out) };
+        e0 += 8;
+    }
+    // The remainder, one element at a time.
+    for e in e0..to {
         unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
     }
 }
