@@ -309,24 +309,26 @@ fn compare_windows(
     // past a quarter of the record the whole record is run instead.
     let mut len = spans[0].1;
     let mut done = done;
-    let mut ready: Vec<Option<Response>> = (chosen.iter())
+    let mut ready: Vec<Option<Window>> = (chosen.iter())
         .map(|&i| {
             let at = done.iter().position(|(j, _)| *j == i);
-            at.map(|at| done.swap_remove(at).1).transpose()
+            at.map(|at| done.swap_remove(at).1)
         })
-        .collect::<Result<_, _>>()?;
+        .collect();
     while len <= n_samples / 4 {
         let missing: Vec<(SampleState, usize)> = (chosen.iter().zip(&ready))
             .filter(|(_, w)| w.is_none())
             .map(|(&i, _)| (starts[i].clone(), len.min(n_samples - spans[i].0)))
             .collect();
-        let mut more = run_windows(finer, params, &equilibrium, missing)?.into_iter();
+        let mut more = run_windows(finer, params, &equilibrium, missing).into_iter();
+        // The first failure in record order, whichever windows ran early:
+        // the error does not depend on the threads.
         let fine: Vec<(usize, Response)> = (chosen.iter().zip(ready.iter_mut()))
             .map(|(&i, w)| {
-                let w = w.take().or_else(|| more.next().map(|m| m.1));
-                (spans[i].0, w.expect("one window per span chosen"))
+                let w = w.take().or_else(|| more.next());
+                Ok((spans[i].0, w.expect("one window per span chosen")?))
             })
-            .collect();
+            .collect::<Result<_, SimulationError>>()?;
         if !still_growing(out, &scales, &fine) {
             return Ok(windowed_difference(model, out, &fine));
         }
@@ -354,19 +356,17 @@ fn final_ranking(out: &Response, scales: &[f64], spans: &[(usize, usize)]) -> Ve
 }
 
 /// Runs `sim` at `params` over the `windows` (a starting state and a number
-/// of samples each) in parallel, from the static `equilibrium` if any.
+/// of samples each) in parallel, from the static `equilibrium` if any: each
+/// window's response or error, in the order given.
 fn run_windows(
     sim: &Simulator<'_>,
     params: &[f64],
     equilibrium: &Option<Vec<f64>>,
     windows: Vec<(SampleState, usize)>,
-) -> Result<Vec<(usize, Response)>, SimulationError> {
+) -> Vec<Window> {
     windows
         .into_par_iter()
-        .map(|(start, len)| {
-            let first = start.sample;
-            Ok((first, run_window(sim, params, equilibrium, start, len)?))
-        })
+        .map(|(start, len)| run_window(sim, params, equilibrium, start, len))
         .collect()
 }
 
