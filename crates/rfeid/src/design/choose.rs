@@ -39,7 +39,7 @@ pub fn log_det(m: &DMatrix<f64>) -> f64 {
     }
 }
 
-/// The criterion of set `s`: Σ_p log det (base_p + Σ_{i∈s} cand_p[i]).
+/// The criterion of set `s`: `Σ_p log det (base_p + Σ_{i∈s} cand_p[i])`.
 pub fn criterion(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], s: &[usize]) -> f64 {
     sums(base, cand, s).iter().map(log_det).sum()
 }

@@ -5,7 +5,7 @@
 //! experiment ([`fisher`]); the Cramér–Rao bound of eq. 26–29 with each
 //! sensor's `noise` as its σ (s² = 1) predicts the standard errors,
 //! correlations, condition number and identifiability warnings that
-//! `identify` would report ([`predict`]). `--choose K` adds the D-optimal K
+//! `identify` would report ([`predict()`]). `--choose K` adds the D-optimal K
 //! candidates ([`choose`]), with an upper bound on how far from the optimum
 //! the choice can be ([`bound`]); a campaign's experiments are ranked by
 //! the information each adds; `--over-box N` chooses for the average over N

@@ -10,9 +10,9 @@ use std::time::Duration;
 /// steps and the parameters of the choice, and its wall time.
 pub type ChosenRun = (Response, Duration);
 
-/// A sample watcher for [`Simulator::choose_watching`]: called at each
-/// sample ([`SampleView`]), from sample 0 again whenever the choice starts
-/// another run.
+/// A sample watcher for [`crate::simulation::Simulator::choose_watching`]:
+/// called at each sample ([`SampleView`]), from sample 0 again whenever the
+/// choice starts another run.
 pub type Watcher<'w> = dyn FnMut(&SampleView<'_>) + Send + 'w;
 
 /// Each sensor's RMS in `r`, floored at 1e-3 of the largest RMS among the

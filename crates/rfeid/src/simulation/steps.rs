@@ -40,7 +40,7 @@
 //!
 //! During an identification the choice is made once and held fixed (the
 //! criterion stays smooth), and checked again at the estimate
-//! ([`crate::identification::identify`]).
+//! ([`crate::identification::pipeline::identify`]).
 use super::run::{SampleView, Span};
 use super::simulator::Simulator;
 use super::step_choice::StepChoice;

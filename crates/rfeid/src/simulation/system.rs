@@ -7,7 +7,7 @@
 //! power-law springs (F_e, eq. 2–6) stay as rows. [`System::accel`]
 //! allocates nothing; the sensitivities' right-hand side is in `tangent`.
 //! Runs under gravity move about the static equilibrium
-//! ([`System::set_reference`], `preload`).
+//! (`System::set_reference`, `preload`).
 use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
 use super::friction::{friction_accel, friction_rows, FrictionRow};

@@ -14,7 +14,7 @@
 //! in the mass-scaled coordinates `x = Lᵀ q`, where rows of any stiffness
 //! and units weigh alike (a 0.1 Hz mount beside a 10 kHz joint is not
 //! mistaken for a free direction). The null space comes from the envelope
-//! factorisation's zero pivots ([`super::envelope::null_space`]), and is
+//! factorisation's zero pivots (`envelope::null_space`), and is
 //! then expressed in words (`basis`, `motion`): translations of one body along the global axes,
 //! rotations about global axes through its centre of mass or through the
 //! points of the elements that touch it, then the same for each group of
