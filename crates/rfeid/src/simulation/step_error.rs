@@ -3,7 +3,8 @@
 //! whole record or over windows of it.
 use super::response::Response;
 use super::run::SampleView;
-use crate::model::Model;
+use crate::measurement::rms;
+use crate::model::{Model, SensorKind};
 use std::time::Duration;
 
 /// A response computed on the way to a step choice: the run at the chosen
@@ -20,22 +21,19 @@ pub type Watcher<'w> = dyn FnMut(&SampleView<'_>) + Send + 'w;
 /// would otherwise measure rounding noise against rounding noise).
 pub(super) fn sensor_scales(model: &Model, r: &Response) -> Vec<f64> {
     let rms: Vec<f64> = (0..r.n_sensors).map(|c| rms(r.sensor(c))).collect();
-    (0..r.n_sensors)
-        .map(|c| {
-            let kind = model.sensors[c].kind;
-            let floor = (0..r.n_sensors)
-                .filter(|&d| model.sensors[d].kind == kind)
-                .map(|d| rms[d])
-                .fold(0.0, f64::max)
-                * 1e-3;
-            rms[c].max(floor)
-        })
-        .collect()
+    let kinds: Vec<SensorKind> = model.sensors.iter().map(|s| s.kind).collect();
+    floored(&rms, &kinds)
 }
 
-/// The root mean square of `x` (0 if empty).
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len().max(1) as f64).sqrt()
+/// Each sensor's RMS `rms[c]` floored at 1e-3 of the largest among the
+/// sensors of the same kind (`kinds`), as [`sensor_scales`] takes them.
+pub(super) fn floored(rms: &[f64], kinds: &[SensorKind]) -> Vec<f64> {
+    (0..rms.len())
+        .map(|c| {
+            let same = (0..rms.len()).filter(|&d| kinds[d] == kinds[c]);
+            rms[c].max(same.map(|d| rms[d]).fold(0.0, f64::max) * 1e-3)
+        })
+        .collect()
 }
 
 /// The largest over the sensors of `sq_sums[c] / count`, square-rooted and

@@ -31,7 +31,7 @@ use super::response::Response;
 use super::run::{SampleState, SampleView, Span};
 use super::simulator::Simulator;
 use super::step_error::{
-    relative_difference, sensor_scales, windowed_difference, ChosenRun, Watcher,
+    floored, relative_difference, sensor_scales, windowed_difference, ChosenRun, Watcher,
 };
 use super::workspace::Workspace;
 use super::SimulationError;
@@ -144,22 +144,13 @@ impl<'a> Progress<'a> {
         let rms: Vec<f64> = (self.squares.iter())
             .map(|s| (s / samples as f64).sqrt())
             .collect();
-        let scale: Vec<f64> = (0..rms.len())
-            .map(|c| {
-                let same = (0..rms.len()).filter(|&d| self.kinds[d] == self.kinds[c]);
-                rms[c].max(same.map(|d| rms[d]).fold(0.0, f64::max) * 1e-3)
-            })
-            .collect();
+        let scale = floored(&rms, &self.kinds);
         let score = |i: usize| -> f64 {
             (self.rough[i].iter().zip(&scale))
                 .map(|(r, s)| r.sqrt() / s)
                 .fold(0.0, f64::max)
         };
-        let scores: Vec<f64> = (0..self.rough.len()).map(score).collect();
-        let mut order: Vec<usize> = (0..scores.len()).collect();
-        order.sort_by(|&a, &b| scores[b].total_cmp(&scores[a]).then(a.cmp(&b)));
-        order.truncate(CHECKED_WINDOWS);
-        order
+        roughest(&(0..self.rough.len()).map(score).collect::<Vec<_>>())
     }
 }
 
@@ -222,6 +213,8 @@ pub(super) fn windowed_check<'w>(
     let (done, busy): (Done, AtomicUsize) = (Mutex::new(Vec::new()), AtomicUsize::new(1));
     let (mode, whole) = (AtomicU8::new(UNKNOWN), Mutex::new(None));
     let (mut run, mut elapsed, mut equilibrium) = (Ok(()), Default::default(), None);
+    // The final ranking (with the whole run's scales), once the run is done.
+    let mut ranked = None;
     rayon::scope(|scope| {
         let (finer, done, busy, mode, whole) = (&finer, &done, &busy, &mode, &whole);
         scope.spawn(move |_| {
@@ -267,14 +260,19 @@ pub(super) fn windowed_check<'w>(
         run = sim.run_span(params, &mut Workspace::default(), &mut out, &mut span);
         elapsed = t0.elapsed();
         equilibrium = span.equilibrium;
-        if run.is_ok() && mode.load(Ordering::Acquire) == WINDOWS {
-            let scales = sensor_scales(model, &out);
-            for i in final_ranking(&out, &scales, &spans) {
+        if run.is_err() {
+            return;
+        }
+        let scales = sensor_scales(model, &out);
+        let chosen = final_ranking(&out, &scales, &spans);
+        if mode.load(Ordering::Acquire) == WINDOWS {
+            for &i in &chosen {
                 if !progress.launched[i] {
                     launch(&mut progress, i, equilibrium.clone());
                 }
             }
         }
+        ranked = Some((scales, chosen));
     });
     run?;
     if mode.into_inner() == WHOLE {
@@ -283,17 +281,19 @@ pub(super) fn windowed_check<'w>(
         return Ok((relative_difference(model, &out, &fine), (out, elapsed)));
     }
     let done = done.into_inner().expect("a window panicked");
-    let e = compare_windows(&finer, params, &out, &progress, done, equilibrium)?;
+    let ranked = ranked.expect("the run ended");
+    let e = compare_windows(&finer, params, (&out, ranked), &progress, done, equilibrium)?;
     Ok((e, (out, elapsed)))
 }
 
-/// The estimate from the windows of the final ranking, compared with the
-/// run's response `out`: those already `done` while it ran, the others run
-/// now from the states `progress` kept (see the module documentation).
+/// The estimate from the windows of the final ranking `chosen`, compared
+/// with the run's response `out` (its sensors' `scales`): those already
+/// `done`, the others run now from the states `progress` kept (see the
+/// module documentation).
 fn compare_windows(
     finer: &Simulator<'_>,
     params: &[f64],
-    out: &Response,
+    (out, (scales, chosen)): (&Response, (Vec<f64>, Vec<usize>)),
     progress: &Progress<'_>,
     done: Vec<(usize, Window)>,
     equilibrium: Option<Vec<f64>>,
@@ -301,8 +301,6 @@ fn compare_windows(
     let (spans, starts) = (progress.spans, &progress.starts);
     let model = finer.model();
     let n_samples = model.sampling.n_samples();
-    let scales = sensor_scales(model, out);
-    let chosen = final_ranking(out, &scales, spans);
     // A window shows the error its span makes only once that error has
     // settled (the modes it excites have decayed many times over): while
     // it still grows across a window, the windows are lengthened, and
@@ -348,10 +346,17 @@ fn compare_windows(
 /// order.
 fn final_ranking(out: &Response, scales: &[f64], spans: &[(usize, usize)]) -> Vec<usize> {
     let rough: Vec<f64> = spans.iter().map(|s| roughness(out, scales, *s)).collect();
-    let mut order: Vec<usize> = (0..spans.len()).collect();
-    order.sort_by(|&a, &b| rough[b].total_cmp(&rough[a]).then(a.cmp(&b)));
-    order.truncate(CHECKED_WINDOWS);
+    let mut order = roughest(&rough);
     order.sort_unstable();
+    order
+}
+
+/// The indices of the [`CHECKED_WINDOWS`] largest `scores`, largest first
+/// (the earlier of equal ones first).
+fn roughest(scores: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..scores.len()).collect();
+    order.sort_by(|&a, &b| scores[b].total_cmp(&scores[a]).then(a.cmp(&b)));
+    order.truncate(CHECKED_WINDOWS);
     order
 }
 
