@@ -217,17 +217,7 @@ pub(super) fn windowed_check<'w>(
     let mut ranked = None;
     rayon::scope(|scope| {
         let (finer, done, busy, mode, whole) = (&finer, &done, &busy, &mode, &whole);
-        scope.spawn(move |_| {
-            if windows_suffice(sim, params) {
-                mode.store(WINDOWS, Ordering::Release);
-                busy.fetch_sub(1, Ordering::AcqRel);
-            } else {
-                mode.store(WHOLE, Ordering::Release);
-                let mut fine = finer.response_buffer();
-                let r = finer.run(params, &mut Workspace::default(), &mut fine);
-                *whole.lock().expect("the whole check panicked") = Some(r.map(|()| fine));
-            }
-        });
+        scope.spawn(move |_| decide(sim, finer, params, (mode, busy, whole)));
         let launch = |p: &mut Progress<'_>, i: usize, eq: Option<Vec<f64>>| {
             p.launched[i] = true;
             busy.fetch_add(1, Ordering::AcqRel);
@@ -284,6 +274,26 @@ pub(super) fn windowed_check<'w>(
     let ranked = ranked.expect("the run ended");
     let e = compare_windows(&finer, params, (&out, ranked), &progress, done, equilibrium)?;
     Ok((e, (out, elapsed)))
+}
+
+/// The second thread's part at the start of [`windowed_check`]: decides
+/// whether windows can show the error (`mode`, releasing `busy` if so), and
+/// if not runs the whole record at 2s (`finer`) into `whole`.
+fn decide(
+    sim: &Simulator<'_>,
+    finer: &Simulator<'_>,
+    params: &[f64],
+    (mode, busy, whole): (&AtomicU8, &AtomicUsize, &Mutex<Option<Window>>),
+) {
+    if windows_suffice(sim, params) {
+        mode.store(WINDOWS, Ordering::Release);
+        busy.fetch_sub(1, Ordering::AcqRel);
+    } else {
+        mode.store(WHOLE, Ordering::Release);
+        let mut fine = finer.response_buffer();
+        let r = finer.run(params, &mut Workspace::default(), &mut fine);
+        *whole.lock().expect("the whole check panicked") = Some(r.map(|()| fine));
+    }
 }
 
 /// The estimate from the windows of the final ranking `chosen`, compared
