@@ -1,13 +1,18 @@
 //! Runs the knee–column simulation with its 16 sensitivities `REPS` times
 //! (default 10; `PLAIN=1` for the run without sensitivities) and prints the
 //! mean time: a target for a profiler (`valgrind --tool=callgrind`).
+//! `MODEL=path/to/model.toml` profiles another model (with the
+//! sensitivities to its identified parameters).
 use rfeid::io::model_file::load_model;
 use rfeid::simulation::{Sensitivities, Simulator, Workspace};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 fn main() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml");
+    let path = std::env::var_os("MODEL").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml"),
+        PathBuf::from,
+    );
     let model = load_model(&path).expect("model");
     let sim = Simulator::new(&model);
     let (params, wrt) = (model.nominal(), model.identified());
