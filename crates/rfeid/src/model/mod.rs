@@ -18,7 +18,9 @@ pub use data_source::{default_sources, DataSource};
 pub use edit::{EditError, ParameterRef};
 pub use experiment::{Experiment, Role};
 pub use record_ref::RecordRef;
-pub use signal::{BandLimited, BandLimitedError, FixedSignal, Interpolation, Shape, Signal, Term};
+pub use signal::{
+    BandLimited, BandLimitedError, FixedSignal, Interpolation, Segment, Shape, Signal, Term,
+};
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -1,8 +1,10 @@
 //! Excitation signals P(t) (SPEC §1): a sum of terms `A_j · shape_j(t)`, so
 //! that each amplitude A_j may be a parameter with a simple derivative.
 mod band_limited;
+mod fixed;
 
 pub use band_limited::{BandLimited, BandLimitedError};
+pub use fixed::{FixedSignal, Segment};
 
 use super::Value;
 use std::f64::consts::PI;
@@ -271,51 +273,6 @@ pub struct Term {
     pub shape: Shape,
 }
 
-/// A signal at fixed parameter values, for evaluation at every stage of a
-/// run: the amplitudes evaluated once, and each linear table's knots per
-/// unit time kept, so that its knot is found by a product rather than a
-/// division. [`FixedSignal::at_side`] equals [`Signal::at_side`] bit for
-/// bit.
-#[derive(Debug, Clone)]
-pub struct FixedSignal<'s> {
-    /// `(A_j, shape_j, knots per unit time of a linear table)`.
-    terms: Vec<(f64, &'s Shape, Option<f64>)>,
-}
-
-impl<'s> FixedSignal<'s> {
-    /// `signal` at the parameter values `p`.
-    pub fn new(signal: &'s Signal, p: &[f64]) -> Self {
-        let per_time = |shape: &Shape| match shape {
-            Shape::Table {
-                times,
-                interpolation: Interpolation::Linear,
-                ..
-            } if times.len() >= 2 => {
-                Some((times.len() - 1) as f64 / (times[times.len() - 1] - times[0]))
-            }
-            _ => None,
-        };
-        let terms = (signal.terms.iter())
-            .map(|term| (term.amplitude.eval(p), &term.shape, per_time(&term.shape)))
-            .collect();
-        FixedSignal { terms }
-    }
-
-    /// P(t) as the limit from before or after t ([`Signal::at_side`]).
-    #[inline]
-    pub fn at_side(&self, t: f64, before: bool) -> f64 {
-        (self.terms.iter())
-            .map(|&(amplitude, shape, per_time)| {
-                amplitude
-                    * match per_time {
-                        Some(_) => shape.table_side(t, before, per_time),
-                        None => shape.at_side(t, before),
-                    }
-            })
-            .sum()
-    }
-}
-
 /// P(t) = Σ_j A_j · shape_j(t).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Signal {
@@ -391,7 +348,10 @@ mod tests {
 
     /// A signal at fixed parameters gives the same forces, bit for bit, as
     /// the signal evaluated with them, from both sides, at and between the
-    /// knots of even and uneven tables, with the knot guessed by a product.
+    /// knots of even and uneven tables, with the knot guessed by a product
+    /// and the last segment reused: the instants in increasing order (as
+    /// a run asks), then in a scrambled order, so that the kept segment is
+    /// as often wrong as right.
     #[test]
     fn a_fixed_signal_equals_the_signal_bit_for_bit() {
         let rate = 610.3515625;
@@ -423,15 +383,24 @@ mod tests {
         };
         let p = [1.7, -4.1];
         let fixed = FixedSignal::new(&signal, &p);
+        let mut kept = vec![Segment::default(); fixed.terms()];
         let last = uneven[499].max(even[499]);
-        let probes = (0..=20_000)
+        let probes: Vec<f64> = (0..=20_000)
             .map(|i| last * i as f64 / 20_000.0 - 0.01)
             .chain(even.iter().chain(&uneven).copied())
-            .chain(even.iter().map(|t| t * (1.0 + 1e-15)));
-        for t in probes {
+            .chain(even.iter().map(|t| t * (1.0 + 1e-15)))
+            .chain(even.iter().map(|t| t * (1.0 - 1e-15)))
+            .collect();
+        // 7919 is prime and does not divide the number of probes.
+        let scrambled = (0..probes.len()).map(|i| probes[i * 7919 % probes.len()]);
+        assert_ne!(probes.len() % 7919, 0);
+        for t in probes.iter().copied().chain(scrambled) {
             for before in [true, false] {
-                let (a, b) = (signal.at_side(t, &p, before), fixed.at_side(t, before));
+                let a = signal.at_side(t, &p, before);
+                let b = fixed.at_side(t, before);
+                let c = fixed.at_side_kept(t, before, &mut kept);
                 assert_eq!(a.to_bits(), b.to_bits(), "t = {t}, before {before}");
+                assert_eq!(a.to_bits(), c.to_bits(), "t = {t}, before {before}, kept");
             }
         }
     }

@@ -8,6 +8,8 @@ mod dim;
 mod envelope;
 pub mod equilibrium;
 mod force_derivative;
+#[cfg(test)]
+mod forces_tests;
 pub mod free;
 mod friction;
 mod hysteresis;

@@ -19,7 +19,7 @@ use super::sparse::{prefer_sparse, sparse_accel, sparse_components, sparse_group
 use super::sparse::{SparseComp, SparseGroup, SparsePower};
 use super::structure::{Row, Structure};
 use super::SimulationError;
-use crate::model::{FixedSignal, Law, Model, Signal};
+use crate::model::{FixedSignal, Law, Model, Segment, Signal};
 
 /// A power-law spring row: `f = a · sign(δ) · |δ|^m`, `δ = row · q`.
 #[derive(Debug, Clone)]
@@ -61,6 +61,15 @@ pub struct System<'a> {
     ext_cols: usize,
     /// `M⁻¹ × weight` in the same 4-row panels.
     gravity_panels: Vec<[f64; 4]>,
+    /// When the motion reaches fewer than n coordinates ([`Self::active`]),
+    /// the columns of `a_ext` it needs, in the same panels: q and q̇ of the
+    /// reached coordinates (each padded to an even count, so that every
+    /// column meets the accumulator it meets in `a_ext`), the power-law
+    /// slots and the excitations; `reach_cols` of them, multiplying one
+    /// vector `[q; q̇; f_p; P]` that short. Empty otherwise.
+    a_reach: Aligned,
+    /// Columns of `a_reach`.
+    reach_cols: usize,
     /// Power-law rows.
     pub power: Vec<PowerRow>,
     /// `M⁻¹ L_e` per excitation.
@@ -115,6 +124,8 @@ pub struct System<'a> {
     pub(crate) frictions: Vec<FrictionRow>,
     /// The excitation signals at the parameter values, one per excitation.
     pub(crate) signals: Vec<FixedSignal<'a>>,
+    /// Whether every signal has one term (so one kept table segment each).
+    one_term_each: bool,
     /// The Bouc–Wen components, in component order, each with an internal
     /// state z that the stepper integrates beside `[q; q̇]` (`hysteresis`).
     pub(crate) hysteresis: Vec<HysteresisRow>,
@@ -161,6 +172,8 @@ impl<'a> System<'a> {
             static_dq: Vec::new(),
             a_ext: Aligned::default(),
             ext_cols: 0,
+            a_reach: Aligned::default(),
+            reach_cols: 0,
             gravity_panels: Vec::new(),
             sparse: true,
             groups: sparse_groups(&comps),
@@ -169,6 +182,7 @@ impl<'a> System<'a> {
             minv_load_blocks,
             frictions,
             hysteresis,
+            one_term_each: model.excitations.iter().all(|e| e.signal.terms.len() == 1),
             signals: (model.excitations.iter())
                 .map(|e| FixedSignal::new(&e.signal, params))
                 .collect(),
@@ -263,6 +277,32 @@ impl<'a> System<'a> {
         self.power_am = power_am;
         self.power_pre = power_pre;
         (self.ext_cols, self.gravity_panels) = (ext_cols, gravity_panels);
+        self.build_reach();
+    }
+
+    /// `a_reach` from `a_ext` (see the field), when the reach is short.
+    fn build_reach(&mut self) {
+        let (n, na) = (self.n, self.active);
+        let even = na + na % 2;
+        if na == n {
+            (self.a_reach, self.reach_cols) = (Aligned::default(), 0);
+            return;
+        }
+        let cols = 2 * even + self.ext_cols - 2 * n;
+        let ext_col = |c: usize| match c {
+            c if c < even => c,
+            c if c < 2 * even => n + c - even,
+            c => 2 * n + c - 2 * even,
+        };
+        let (panels, width) = ((4 * na.div_ceil(4)).min(n).div_ceil(4), 4 * self.ext_cols);
+        let mut a_reach = vec![0.0; panels * 4 * cols];
+        for p in 0..panels {
+            for c in 0..cols {
+                let from = p * width + 4 * ext_col(c);
+                a_reach[4 * (p * cols + c)..][..4].copy_from_slice(&self.a_ext[from..from + 4]);
+            }
+        }
+        (self.a_reach, self.reach_cols) = (Aligned::from_slice(&a_reach), cols);
     }
 
     /// Integrates every coordinate from now on ([`Self::active`] n): for a
@@ -318,9 +358,41 @@ impl<'a> System<'a> {
         }
     }
 
-    /// Scratch length that [`System::accel`] needs: the power-law slots.
+    /// [`System::forces_side`] keeping each table's segment in `segments`
+    /// ([`System::signal_terms`] long, see `FixedSignal::at_side_kept`):
+    /// the same forces, found without a search at the stages of a step.
+    #[inline(always)]
+    pub(crate) fn forces_kept(
+        &self,
+        t: f64,
+        before: bool,
+        forces: &mut [f64],
+        segments: &mut [Segment],
+    ) {
+        if self.one_term_each {
+            // One term each (the usual case): signal e keeps segment e.
+            for (e, s) in self.signals.iter().enumerate() {
+                forces[e] = s.at_side_kept(t, before, &mut segments[e..e + 1]);
+            }
+            return;
+        }
+        let mut rest = segments;
+        for (f, s) in forces.iter_mut().zip(&self.signals) {
+            let (mine, others) = std::mem::take(&mut rest).split_at_mut(s.terms());
+            *f = s.at_side_kept(t, before, mine);
+            rest = others;
+        }
+    }
+
+    /// The number of terms of all the excitation signals.
+    pub(crate) fn signal_terms(&self) -> usize {
+        self.signals.iter().map(FixedSignal::terms).sum()
+    }
+
+    /// Scratch length that [`System::accel`] needs: the power-law slots,
+    /// or the short vector of a short reach (see `a_reach`).
     pub fn scratch_len(&self) -> usize {
-        self.power_am.len()
+        self.power_am.len().max(self.reach_cols)
     }
 
     /// The number of internal states z: one per Bouc–Wen component.
@@ -374,11 +446,83 @@ impl<'a> System<'a> {
     ) {
         let n = D::n(self.n);
         let na = D::reach(self.active, n);
+        if na < n {
+            self.reach_accel::<M, D>(forces, y, scratch, acc);
+            return;
+        }
         let slots = self.power_am.len();
         let fp = &mut scratch[..slots];
-        // The power-law forces four at a time: δ = B q for the panel, then
-        // f = a sign(δ)|δ|^m (eq. 2–6), as its change from the static
-        // deformation if there is one.
+        self.power_law_forces::<M, D>(y, fp);
+        // q̈ = base + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
+        let (ny, nf) = (2 * n, slots);
+        let width = 4 * self.ext_cols;
+        for (p, (g, rows)) in (self.gravity_panels.iter())
+            .zip(acc[..n].chunks_mut(4))
+            .enumerate()
+        {
+            // Sliced by products: `chunks_exact` would divide at every call.
+            let panel = &self.a_ext[p * width..(p + 1) * width];
+            let (py, rest) = panel.split_at(4 * ny);
+            let (pf, pl) = rest.split_at(4 * nf);
+            // Two accumulator sets (even and odd columns) halve the add chain.
+            let (mut s, mut t) = (*g, [0.0; 4]);
+            panel_madd::<M>(py, y, &mut s, &mut t);
+            panel_madd::<M>(pf, fp, &mut s, &mut t);
+            panel_madd::<M>(pl, forces, &mut s, &mut t);
+            for (r, (a, b)) in rows.iter_mut().zip(s.iter().zip(&t)) {
+                *r = a + b;
+            }
+        }
+    }
+
+    /// [`Self::dense_accel`] when the motion reaches fewer than n
+    /// coordinates: `[q; q̇; f_p; P]` of the reach gathered into `scratch`
+    /// and multiplied by `a_reach` in one pass (one loop's set-up instead of
+    /// four, which on a one-body model cost more than the products). The
+    /// same sums in the same order as over `a_ext`, so the same results.
+    #[inline(always)]
+    fn reach_accel<M: Madd, D: Dim>(
+        &self,
+        forces: &[f64],
+        y: &[f64],
+        scratch: &mut [f64],
+        acc: &mut [f64],
+    ) {
+        let n = D::n(self.n);
+        let na = D::reach(self.active, n);
+        let (even, slots) = (na + na % 2, self.power_am.len());
+        let x = &mut scratch[..self.reach_cols];
+        let (qv, rest) = x.split_at_mut(2 * even);
+        let (fp, loads) = rest.split_at_mut(slots);
+        qv[..na].copy_from_slice(&y[..na]);
+        qv[even..even + na].copy_from_slice(&y[n..n + na]);
+        if na < even {
+            (qv[na], qv[even + na]) = (0.0, 0.0);
+        }
+        loads.copy_from_slice(&forces[..loads.len()]);
+        self.power_law_forces::<M, D>(y, fp);
+        let reached = (4 * na.div_ceil(4)).min(n);
+        let width = 4 * self.reach_cols;
+        for p in 0..reached.div_ceil(4) {
+            let panel = &self.a_reach[p * width..(p + 1) * width];
+            let (mut s, mut t) = (self.gravity_panels[p], [0.0; 4]);
+            panel_madd::<M>(panel, x, &mut s, &mut t);
+            for i in 0..4.min(reached - 4 * p) {
+                acc[4 * p + i] = s[i] + t[i];
+            }
+        }
+        // The coordinates out of reach have no acceleration.
+        acc[reached..n].fill(0.0);
+    }
+
+    /// The power-law forces into `fp` (one per slot), four at a time:
+    /// δ = B q for the panel, then f = a sign(δ)|δ|^m (eq. 2–6), as its
+    /// change from the static deformation if there is one.
+    #[inline(always)]
+    fn power_law_forces<M: Madd, D: Dim>(&self, y: &[f64], fp: &mut [f64]) {
+        let n = D::n(self.n);
+        let na = D::reach(self.active, n);
+        let mut live = self.power.len();
         for (((panel, am), pre), f) in self
             .power_b
             .chunks_exact(4 * n)
@@ -402,39 +546,17 @@ impl<'a> System<'a> {
                     f[i] = am[i].0 * square_change(pre[i].d0, d[i]);
                 }
             } else {
+                // The padding slots' forces are zero: only the power laws'
+                // own slots cost a power (the Silverbox fills one of four).
                 for i in 0..4 {
-                    f[i] = power_change(am[i].0, am[i].1, &pre[i], d[i]).0;
+                    f[i] = match i < live {
+                        true => power_change(am[i].0, am[i].1, &pre[i], d[i]).0,
+                        false => 0.0,
+                    };
                 }
             }
+            live = live.saturating_sub(4);
         }
-        // q̈ = base + [−M⁻¹K | −M⁻¹C | −M⁻¹B_pᵀ | M⁻¹L] [q; q̇; f; P].
-        let (ny, nf) = (2 * n, slots);
-        let width = 4 * self.ext_cols;
-        let reached = (4 * na.div_ceil(4)).min(n);
-        for (p, (g, rows)) in (self.gravity_panels.iter())
-            .zip(acc[..reached].chunks_mut(4))
-            .enumerate()
-        {
-            // Sliced by products: `chunks_exact` would divide at every call.
-            let panel = &self.a_ext[p * width..(p + 1) * width];
-            let (py, rest) = panel.split_at(4 * ny);
-            let (pf, pl) = rest.split_at(4 * nf);
-            // Two accumulator sets (even and odd columns) halve the add chain.
-            let (mut s, mut t) = (*g, [0.0; 4]);
-            if na == n {
-                panel_madd::<M>(py, y, &mut s, &mut t);
-            } else {
-                panel_madd::<M>(&py[..4 * na], &y[..na], &mut s, &mut t);
-                panel_madd::<M>(&py[4 * n..4 * (n + na)], &y[n..n + na], &mut s, &mut t);
-            }
-            panel_madd::<M>(pf, fp, &mut s, &mut t);
-            panel_madd::<M>(pl, forces, &mut s, &mut t);
-            for (r, (a, b)) in rows.iter_mut().zip(s.iter().zip(&t)) {
-                *r = a + b;
-            }
-        }
-        // The coordinates out of reach have no acceleration.
-        acc[reached..n].fill(0.0);
     }
 
     /// The tangent stiffness `K_t = K + Σ f'(δ_i) B_iᵀ B_i` at `q` (dense n×n,

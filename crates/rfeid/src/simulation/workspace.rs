@@ -4,6 +4,7 @@ use super::response::Response;
 #[cfg(doc)]
 use super::sines::StageSines;
 use super::system::System;
+use crate::model::Segment;
 
 /// Scratch memory for one run; reuse it so that runs do not allocate.
 #[derive(Debug, Clone, Default)]
@@ -24,6 +25,9 @@ pub struct Workspace {
     pub(super) power_forces: Vec<f64>,
     pub(super) forces: Vec<f64>,
     pub(super) forces_time: f64,
+    /// The table segments the excitation looked up last, one per term of
+    /// each signal in turn (`FixedSignal::at_side_kept`).
+    pub(super) segments: Vec<Segment>,
     /// Whether `forces` are the limits from before `forces_time`.
     pub(super) forces_before: bool,
     /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
@@ -84,6 +88,8 @@ impl Workspace {
         resize(&mut self.scratch, scratch);
         resize(&mut self.forces, sys.minv_loads.len());
         resize(&mut self.power_forces, sys.scratch_len());
+        self.segments.clear();
+        self.segments.resize(sys.signal_terms(), Segment::default());
         self.phases.clear();
         self.phases.resize(sine_terms, (0.0, 1.0));
         self.forces_time = f64::NAN;
