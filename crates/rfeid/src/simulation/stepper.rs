@@ -43,9 +43,6 @@ pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     a_nz: Vec<Coefs>,
     /// The nonzero `b_i`, as (i, b_i).
     b_nz: Coefs,
-    /// Bit i set when stage i evaluates the excitation from before its
-    /// instant ([`Self::before`]; `c_i = 1`, i > 0).
-    before: u64,
     kernel: PhantomData<(M, D)>,
 }
 
@@ -80,7 +77,6 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// (none if empty): allocates its coefficient lists, the sine rotations
     /// and the sensitivities' component data once.
     pub fn new(sys: &'a System<'a>, tab: &'a Tableau, h: f64, wrt: &[usize], locate: bool) -> Self {
-        assert!(tab.stages() <= 64, "a stage's bit in `before`");
         Stepper {
             sys,
             tab,
@@ -89,9 +85,6 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             locate,
             a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
             b_nz: nonzero(tab.b),
-            before: (tab.c.iter().enumerate())
-                .filter(|&(i, &c)| i > 0 && c == 1.0)
-                .fold(0, |bits, (i, _)| bits | 1 << i),
             kernel: PhantomData,
         }
     }
@@ -203,7 +196,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// ending at a jump of the excitation sees the value before it.
     #[inline(always)]
     fn before(&self, i: usize) -> bool {
-        self.before >> i & 1 == 1
+        i > 0 && self.tab.c[i] == 1.0
     }
 
     /// Stage i's sensitivity derivative from `sy_stage` and stage state i.
@@ -395,57 +388,9 @@ fn combine_state<M: Madd>(
 ) {
     if reach == n {
         combine::<M>(y, k, a, h, 2 * n, out);
-        return;
-    }
-    let len = 2 * n;
-    assert!(stages_fit(k, a, len) && reach <= n && y.len() >= len && out.len() >= len);
-    // q and q̇ in one pass over the stages (for a reach of a few
-    // coordinates, the loop over the stages costs more than its sums).
-    let mut e0 = 0;
-    // SAFETY (each call): the stages of `a` lie in `k` (asserted) and
-    // e0 + W ≤ reach ≤ n (the loop conditions).
-    while e0 + 4 <= reach {
-        unsafe { combine_halves_chunk::<M, 4>(y, k, a, h, n, e0, out) };
-        e0 += 4;
-    }
-    for e in e0..reach {
-        unsafe { combine_halves_chunk::<M, 1>(y, k, a, h, n, e, out) };
-    }
-}
-
-/// `out = y + h Σ_j a_j k_j` for the elements `e0..e0 + W` of q and of
-/// q̇ (the state `[q; q̇]`, n each): the sums of [`combine_chunk`] in the
-/// same order, so the same results.
-///
-/// # Safety
-/// `e0 + W ≤ n` and, for every `(j, _)` in `a`, `(j + 1)·2n ≤ k.len()`.
-#[inline(always)]
-unsafe fn combine_halves_chunk<M: Madd, const W: usize>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    n: usize,
-    e0: usize,
-    out: &mut [f64],
-) {
-    debug_assert!(e0 + W <= n && stages_fit(k, a, 2 * n));
-    let (mut sq, mut sv) = ([0.0; W], [0.0; W]);
-    for &(j, aj) in a.iter() {
-        let start = j * 2 * n + e0;
-        // SAFETY: start + n + W ≤ j·2n + 2n ≤ k.len() by the preconditions.
-        let (kq, kv) = unsafe {
-            let kq = k.get_unchecked(start..start + W);
-            (kq, k.get_unchecked(start + n..start + n + W))
-        };
-        for q in 0..W {
-            sq[q] = M::madd(aj, kq[q], sq[q]);
-            sv[q] = M::madd(aj, kv[q], sv[q]);
-        }
-    }
-    for q in 0..W {
-        out[e0 + q] = M::madd(h, sq[q], y[e0 + q]);
-        out[n + e0 + q] = M::madd(h, sv[q], y[n + e0 + q]);
+    } else {
+        combine_range::<M>(y, k, a, h, 2 * n, (0, reach), out);
+        combine_range::<M>(y, k, a, h, 2 * n, (n, n + reach), out);
     }
 }
 
