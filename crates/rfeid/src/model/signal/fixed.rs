@@ -62,6 +62,18 @@ impl Default for Segment {
 }
 
 impl Segment {
+    /// Whether t lies in `[t0, t1)`.
+    #[inline(always)]
+    fn holds(&self, t: f64) -> bool {
+        self.t0 <= t && t < self.t1
+    }
+
+    /// The table at t in the segment.
+    #[inline(always)]
+    fn at(&self, t: f64) -> f64 {
+        self.v0 + (t - self.t0) / (self.t1 - self.t0) * self.dv
+    }
+
     /// The segment of the strictly increasing table `(times, values)` that
     /// holds t, or [`NO_SEGMENT`] when t is near or past an end: within the
     /// first or last interval, or where the lookup's test for the ends
@@ -122,7 +134,7 @@ impl<'s> FixedSignal<'s> {
     /// P(t) as the limit from before or after t ([`Signal::at_side`]).
     pub fn at_side(&self, t: f64, before: bool) -> f64 {
         (self.terms.iter())
-            .map(|term| term.amplitude * term.shape_at_side(t, before, &mut NO_SEGMENT.clone()))
+            .map(|term| term.amplitude * term.shape_at_side(t, before, &mut Segment::default()))
             .sum()
     }
 
@@ -155,9 +167,8 @@ impl FixedTerm<'_> {
             Kind::Constant => return f64::from(u8::from(if before { t > 0.0 } else { t >= 0.0 })),
             Kind::Other => return self.shape.at_side(t, before),
         };
-        let s = *kept;
-        if s.t0 <= t && t < s.t1 {
-            return s.v0 + (t - s.t0) / (s.t1 - s.t0) * s.dv;
+        if kept.holds(t) {
+            return kept.at(t);
         }
         self.look_up(t, before, per_time, kept)
     }
@@ -170,6 +181,11 @@ impl FixedTerm<'_> {
         if let Shape::Table { times, values, .. } = self.shape {
             *kept = Segment::holding(times, values, t, per_time);
         }
-        self.shape.table_side(t, before, Some(per_time))
+        // Inside the segment found, the full look-up's value, without a
+        // second search.
+        match kept.holds(t) {
+            true => kept.at(t),
+            false => self.shape.table_side(t, before, Some(per_time)),
+        }
     }
 }
