@@ -2,6 +2,7 @@
 //! static equilibrium and modal analysis.
 pub mod aliasing;
 mod aligned;
+mod blocks;
 mod calibration;
 mod columns;
 mod dim;
@@ -39,6 +40,7 @@ mod tangent;
 mod test_models;
 mod workspace;
 
+pub use blocks::Block;
 pub use integrator::{Integrator, Kernel};
 pub use response::{Response, Sensitivities};
 pub use run::{SampleState, SampleView, Span};

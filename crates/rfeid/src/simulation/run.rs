@@ -70,11 +70,8 @@ impl<'m> Simulator<'m> {
             Kernel::Dense => false,
             Kernel::Sparse => true,
         });
-        if span
-            .start
-            .as_ref()
-            .is_some_and(|s| sys.moves_past_reach(&s.y))
-        {
+        let from = span.start.as_ref().or(span.resume.as_ref().map(|(s, _)| s));
+        if from.is_some_and(|s| sys.moves_past_reach(&s.y)) {
             sys.integrate_every_coordinate();
         }
         #[cfg(target_arch = "x86_64")]
@@ -149,7 +146,7 @@ impl<'m> Simulator<'m> {
         debug_assert!(D::SPARSE || !sys.sparse);
         let tab = &self.integrator.tableau;
         let sampling = self.model.sampling;
-        let first = span.start.as_ref().map_or(0, |s| s.sample);
+        let first = span.first_sample();
         let n_samples = span
             .samples
             .unwrap_or(usize::MAX)
@@ -163,8 +160,8 @@ impl<'m> Simulator<'m> {
             return Ok(());
         }
         if r == 0 || span.start.is_some() {
-            // Sensitivities to nothing (or from a state without them): an
-            // empty matrix, and a plain run.
+            // Sensitivities to nothing (or from a state without them, not
+            // `resume`): an empty matrix, and a plain run.
             sens = None;
         }
         let wrt = if sens.is_some() { wrt } else { &[] };
@@ -190,10 +187,7 @@ impl<'m> Simulator<'m> {
             false => (0, 0),
         };
         ws.prepare(&sys, tab.stages(), (width, scratch), st.sine_terms());
-        if let Some(start) = &span.start {
-            ws.y.copy_from_slice(&start.y);
-            ws.z.y.copy_from_slice(&start.z);
-        }
+        span.restore(ws);
 
         let total_steps = (first + n_samples.saturating_sub(1)) * substeps;
         let bps = &self.breakpoints;
@@ -327,14 +321,54 @@ pub struct Span<'a> {
     pub samples: Option<usize>,
     /// Called at each sample.
     pub observer: Option<&'a mut (dyn FnMut(&SampleView<'_>) + Send)>,
+    /// Where a block of a run by blocks resumes (`blocks`): the state and
+    /// the sensitivities to the same parameters at a sample; with `start`
+    /// unset. (A run from `start` is plain.)
+    pub(crate) resume: Option<(SampleState, SensitivityState)>,
+}
+
+/// The sensitivities of the state at a sample, as a run with sensitivities
+/// holds them (rows of its tangent's width), to continue that run from
+/// there.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(crate) struct SensitivityState {
+    /// `∂[q; q̇]/∂x`, 2n rows.
+    pub(crate) sy: Vec<f64>,
+    /// `∂z/∂x` of the Bouc–Wen internal states (empty without them).
+    pub(crate) z_sy: Vec<f64>,
 }
 
 impl Span<'_> {
+    /// The record's index of the run's first sample.
+    fn first_sample(&self) -> usize {
+        match (&self.start, &self.resume) {
+            (Some(s), _) | (None, Some((s, _))) => s.sample,
+            (None, None) => 0,
+        }
+    }
+
+    /// Puts the state at `start`, or the state and sensitivities at
+    /// `resume`, into `ws` (outlined: the kernels only call it).
+    #[inline(never)]
+    fn restore(&self, ws: &mut Workspace) {
+        let (state, sens) = match (&self.start, &self.resume) {
+            (Some(s), _) => (s, None),
+            (None, Some((s, sens))) => (s, Some(sens)),
+            (None, None) => return,
+        };
+        ws.y.copy_from_slice(&state.y);
+        ws.z.y.copy_from_slice(&state.z);
+        if let Some(sens) = sens.filter(|_| !ws.sy.is_empty()) {
+            ws.sy.copy_from_slice(&sens.sy);
+            ws.z.sy.copy_from_slice(&sens.z_sy);
+        }
+    }
+
     /// Calls the observer with sample `sample` of the run in `ws`
     /// (outlined: the kernels' loop only tests for an observer).
     #[inline(never)]
     fn notify(&mut self, sample: usize, ws: &Workspace, out: &Response) {
-        let first = self.start.as_ref().map_or(0, |s| s.sample);
+        let first = self.first_sample();
         if let Some(observe) = self.observer.as_mut() {
             observe(&SampleView {
                 sample,

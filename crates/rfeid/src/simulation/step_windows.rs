@@ -398,7 +398,7 @@ fn run_window(
         equilibrium: equilibrium.clone(),
         start: Some(start),
         samples: Some(len),
-        observer: None,
+        ..Span::default()
     };
     let mut w = Response::zeros(sim.model().sensors.len(), 0);
     sim.run_span(params, &mut Workspace::default(), &mut w, &mut window)?;
