@@ -42,6 +42,8 @@ pub struct BlockedQr {
     ssr_rest: f64,
     /// Rows taken so far.
     rows: usize,
+    /// The first row taken with a NaN or infinite entry (in J or res).
+    first_non_finite: Option<usize>,
 }
 
 impl BlockedQr {
@@ -52,7 +54,25 @@ impl BlockedQr {
             qtr: vec![0.0; n_cols],
             ssr_rest: 0.0,
             rows: 0,
+            first_non_finite: None,
         }
+    }
+
+    /// Empties the factor for new rows of the same columns, keeping its
+    /// memory.
+    pub fn clear(&mut self) {
+        self.r.fill(0.0);
+        self.qtr.fill(0.0);
+        self.ssr_rest = 0.0;
+        self.rows = 0;
+        self.first_non_finite = None;
+    }
+
+    /// The first row taken (counted from 0 in the order taken) with a NaN
+    /// or infinite entry in J or in the residuals; the factor is then
+    /// meaningless.
+    pub fn first_non_finite_row(&self) -> Option<usize> {
+        self.first_non_finite
     }
 
     /// Number of columns r.
@@ -120,8 +140,13 @@ impl BlockedQr {
         let n = self.n_cols();
         assert_eq!(block.ncols(), n, "block columns");
         assert_eq!(block.nrows(), res.len(), "block rows");
-        self.rows += res.len();
         let b = res.len();
+        if self.first_non_finite.is_none() {
+            self.first_non_finite = (0..b)
+                .find(|&i| !res[i].is_finite() || block.row(i).iter().any(|v| !v.is_finite()))
+                .map(|i| self.rows + i);
+        }
+        self.rows += b;
         if b == 0 {
             return;
         }

@@ -58,8 +58,9 @@
 use nalgebra::{DMatrix, DVector, DVectorView};
 use serde::Serialize;
 
-use super::lm_step::{update_scale, DampedSolver};
-use super::problem::{evaluate_cost, evaluate_cost_jacobian, EvalError, LeastSquares};
+use super::blocked_qr::BlockedQr;
+use super::lm_step::{update_scale, DampedSolver, State};
+use super::problem::{evaluate_cost, EvalError, LeastSquares};
 use super::settings::{at_least, positive, SettingsError};
 use super::termination::{check_start, SolveError, StopReason};
 
@@ -206,7 +207,10 @@ pub struct LmResult<E> {
     pub cost: f64,
     /// Residuals at `u`.
     pub residuals: Vec<f64>,
-    /// Jacobian `∂r/∂u` at `u` (N × n), for the Cramér–Rao bounds (eq. 26).
+    /// Jacobian `∂r/∂u` at `u` (N × n), for the Cramér–Rao bounds (eq. 26);
+    /// for a problem that takes its Jacobian by blocks
+    /// ([`LeastSquares::jacobian_by_blocks`]), its triangular factor R
+    /// (n × n), which gives the same `JᵀJ`.
     pub jacobian: DMatrix<f64>,
     /// Why the search stopped.
     pub stop_reason: StopReason,
@@ -228,14 +232,6 @@ pub struct LmResult<E> {
 #[derive(Debug, Clone, Default)]
 pub struct LevenbergMarquardt {
     settings: LmSettings,
-}
-
-/// Mutable state of one run: the current point and its evaluations.
-struct State {
-    u: Vec<f64>,
-    r: Vec<f64>,
-    jac: DMatrix<f64>,
-    cost: f64,
 }
 
 /// How one iteration's inner loop over λ ended.
@@ -279,21 +275,15 @@ impl LevenbergMarquardt {
         check_start(n, m, u0)?;
         let s = &self.settings;
         let mut ws = problem.workspace();
-        let mut cur = State {
-            u: u0.to_vec(),
-            r: vec![0.0; m],
-            jac: DMatrix::zeros(m, n),
-            cost: 0.0,
-        };
-        cur.cost = evaluate_cost_jacobian(problem, &mut ws, &cur.u, &mut cur.r, &mut cur.jac)
+        let by_blocks = problem.jacobian_by_blocks();
+        let mut cur = State::new(n, m, by_blocks);
+        cur.u.copy_from_slice(u0);
+        let mut qr = by_blocks.then(|| BlockedQr::new(n));
+        cur.linearise(problem, &mut ws, &mut qr)
             .map_err(SolveError::StartFailed)?;
-        let mut trial = State {
-            u: vec![0.0; n],
-            r: vec![0.0; m],
-            jac: DMatrix::zeros(m, n),
-            cost: 0.0,
-        };
+        let mut trial = State::new(n, m, by_blocks);
         let mut run = Run {
+            qr,
             residual_evaluations: 0,
             jacobian_evaluations: 1,
             failed_evaluations: 0,
@@ -317,7 +307,8 @@ impl LevenbergMarquardt {
             }
             let col_norms: Vec<f64> = cur.jac.column_iter().map(|c| c.norm()).collect();
             update_scale(&col_norms, &mut scale);
-            let g = cur.jac.tr_mul(&DVectorView::from_slice(&cur.r, m));
+            let res = cur.lin_res();
+            let g = cur.jac.tr_mul(&DVectorView::from_slice(res, res.len()));
             let free: Vec<usize> = (0..n)
                 .filter(|&j| !((cur.u[j] <= 0.0 && g[j] > 0.0) || (cur.u[j] >= 1.0 && g[j] < 0.0)))
                 .collect();
@@ -334,7 +325,7 @@ impl LevenbergMarquardt {
                 break StopReason::MaxIterations;
             }
             iterations += 1;
-            let solver = DampedSolver::new(&cur.jac, &cur.r, &free, &scale);
+            let solver = DampedSolver::new(&cur.jac, cur.lin_res(), &free, &scale);
             if converged_decrement(s.decrement_tolerance, &solver, cur.cost, m, free.len()) {
                 break StopReason::ConvergedDecrement;
             }
@@ -459,8 +450,8 @@ impl LevenbergMarquardt {
             }
             // Decrease: evaluate the Jacobian there before moving.
             run.jacobian_evaluations += 1;
-            match evaluate_cost_jacobian(problem, ws, &trial.u, &mut trial.r, &mut trial.jac) {
-                Ok(c) => trial.cost = c,
+            match trial.linearise(problem, ws, &mut run.qr) {
+                Ok(()) => {}
                 Err(e) => {
                     run.fail(e);
                     (any_failed, last_failed) = (true, true);
@@ -507,8 +498,10 @@ fn converged_decrement(
     dof >= MIN_DEGREES_OF_FREEDOM && solver.decrement() <= tolerance * cost / dof as f64
 }
 
-/// Counters and damping of one run.
+/// Counters and damping of one run, and the factor a problem that takes
+/// its Jacobian by blocks fills.
 struct Run<E> {
+    qr: Option<BlockedQr>,
     residual_evaluations: usize,
     jacobian_evaluations: usize,
     failed_evaluations: usize,

@@ -13,7 +13,65 @@
 //! per iteration (cost ≈ 2 N f², negligible beside a simulation); each trial
 //! damping λ then factorises the small `2f × f` matrix `[R; √λ D_F]` and
 //! solves a triangular system.
+use super::blocked_qr::BlockedQr;
+use super::problem::{evaluate_cost_factor, evaluate_cost_jacobian, EvalError, LeastSquares};
 use nalgebra::{DMatrix, DVector};
+
+/// A point of a Levenberg–Marquardt run and its evaluations: the residuals,
+/// J, and the linear model's Jacobian, whole (N × n) or, for a problem that
+/// takes it by blocks, as its triangular factor R (n × n) beside `Qᵀ r`.
+/// The step, the gradient `Jᵀr = RᵀQᵀr`, the decrement and the predicted
+/// decrease `‖J s‖² = ‖R s‖²` are the same from either.
+pub(crate) struct State {
+    pub(crate) u: Vec<f64>,
+    pub(crate) r: Vec<f64>,
+    pub(crate) jac: DMatrix<f64>,
+    /// `Qᵀ r` beside R (by blocks); empty otherwise.
+    qtr: Vec<f64>,
+    pub(crate) cost: f64,
+}
+
+impl State {
+    /// A state for n variables and m residuals.
+    pub(crate) fn new(n: usize, m: usize, by_blocks: bool) -> Self {
+        State {
+            u: vec![0.0; n],
+            r: vec![0.0; m],
+            jac: DMatrix::zeros(if by_blocks { n } else { m }, n),
+            qtr: Vec::new(),
+            cost: 0.0,
+        }
+    }
+
+    /// The residuals of the linear model: r, or `Qᵀ r` beside R.
+    pub(crate) fn lin_res(&self) -> &[f64] {
+        match self.qtr.is_empty() {
+            true => &self.r,
+            false => &self.qtr,
+        }
+    }
+
+    /// Evaluates the residuals, J and the Jacobian (or, with `qr`, its
+    /// factor) at `u`.
+    pub(crate) fn linearise<P: LeastSquares>(
+        &mut self,
+        problem: &P,
+        ws: &mut P::Workspace,
+        qr: &mut Option<BlockedQr>,
+    ) -> Result<(), EvalError<P::Error>> {
+        self.cost = match qr {
+            None => evaluate_cost_jacobian(problem, ws, &self.u, &mut self.r, &mut self.jac)?,
+            Some(qr) => {
+                let cost = evaluate_cost_factor(problem, ws, &self.u, &mut self.r, qr)?;
+                self.jac.copy_from(qr.r());
+                self.qtr.clear();
+                self.qtr.extend_from_slice(qr.qtr());
+                cost
+            }
+        };
+        Ok(())
+    }
+}
 
 /// QR factorisation of the free columns of the Jacobian, reused for every
 /// damping value tried in one iteration.

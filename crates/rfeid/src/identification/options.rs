@@ -57,6 +57,9 @@ pub struct SearchOptions {
     pub window: Option<f64>,
     /// Where the local search starts; default the plan.
     pub start: Start,
+    /// MiB a whole Jacobian may take before it is taken block by block
+    /// ([`Settings::jacobian_memory`]); `None`: 256.
+    pub jacobian_memory: Option<usize>,
 }
 
 impl Default for SearchOptions {
@@ -71,6 +74,7 @@ impl Default for SearchOptions {
             from: 0.0,
             window: None,
             start: Start::Plan,
+            jacobian_memory: None,
         }
     }
 }
@@ -178,6 +182,7 @@ impl SearchOptions {
             window: Some(window).filter(|w| *w > 0.0),
             restarts: DEFAULT_RESTARTS,
             start: self.start,
+            jacobian_memory: self.jacobian_memory.map(|mib| mib.saturating_mul(1 << 20)),
             ..Settings::default()
         }
     }

@@ -16,6 +16,7 @@
 //! [`crate::identification::bfgs`], [`crate::identification::plan`]); the
 //! solvers know nothing of models or simulators. The only meeting point is the
 //! [`LeastSquares`] trait.
+use super::blocked_qr::BlockedQr;
 use nalgebra::DMatrix;
 
 /// A nonlinear least-squares problem `J(u) = Σ r_i(u)²` on the normalised box
@@ -66,6 +67,33 @@ pub trait LeastSquares: Sync {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> Result<(), Self::Error>;
+
+    /// Whether the solvers should take the Jacobian as its triangular
+    /// factor ([`LeastSquares::residuals_factor`]) rather than whole: `true`
+    /// when the whole `n_residuals × n_params` matrix would not fit the
+    /// memory the problem is allowed.
+    fn jacobian_by_blocks(&self) -> bool {
+        false
+    }
+
+    /// Residuals `r(u)` into `r` and the triangular factor of the Jacobian
+    /// at `u` with `Qᵀ r` ([`BlockedQr`]) into `qr` (emptied first), so that
+    /// the Jacobian need never be held whole. The residuals must be those
+    /// of [`LeastSquares::residuals`]. The default builds the whole
+    /// Jacobian and factors it; a problem with a long record overrides it
+    /// to hand the rows over block by block.
+    fn residuals_factor(
+        &self,
+        ws: &mut Self::Workspace,
+        u: &[f64],
+        r: &mut [f64],
+        qr: &mut BlockedQr,
+    ) -> Result<(), Self::Error> {
+        let mut jac = DMatrix::zeros(self.n_residuals(), self.n_params());
+        self.residuals_jacobian(ws, u, r, &mut jac)?;
+        *qr = BlockedQr::from_rows(&jac, r, 256);
+        Ok(())
+    }
 }
 
 /// Why one evaluation of a problem gave no usable value.
@@ -122,6 +150,27 @@ pub fn evaluate_cost_jacobian<P: LeastSquares + ?Sized>(
         }
     }
     Ok(cost)
+}
+
+/// Evaluates residuals and the Jacobian's triangular factor at `u`
+/// ([`LeastSquares::residuals_factor`]) and returns `J(u)` (eq. 16);
+/// non-finite entries are an [`EvalError::NonFinite`] (for the Jacobian,
+/// the row in the order the factor took them).
+pub fn evaluate_cost_factor<P: LeastSquares + ?Sized>(
+    problem: &P,
+    ws: &mut P::Workspace,
+    u: &[f64],
+    r: &mut [f64],
+    qr: &mut BlockedQr,
+) -> Result<f64, EvalError<P::Error>> {
+    problem
+        .residuals_factor(ws, u, r, qr)
+        .map_err(EvalError::Problem)?;
+    let cost = finite_cost(r)?;
+    match qr.first_non_finite_row() {
+        Some(index) => Err(EvalError::NonFinite { index }),
+        None => Ok(cost),
+    }
 }
 
 fn finite_cost<E>(r: &[f64]) -> Result<f64, EvalError<E>> {

@@ -20,6 +20,7 @@
 //! The experiments are simulated in parallel (rayon), each into its own
 //! rows, so the residuals do not depend on the number of threads. A data file
 //! on its own is a campaign of one experiment.
+use super::blocked_qr::{jacobian_bytes, BlockedQr};
 use super::box_map::BoxMap;
 use super::cancel::Cancel;
 use super::noise::ar::Whitener;
@@ -29,6 +30,7 @@ use crate::simulation::{Response, SimulationError, Simulator};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
+mod factor;
 mod part;
 use part::{Part, PartWorkspace};
 
@@ -72,7 +74,18 @@ pub struct OutputError<'m> {
     /// Set to stop: every simulation after it fails with
     /// [`SimulationError::Cancelled`] (shared by its clones).
     cancel: Cancel,
+    /// Bytes the whole Jacobian may take; beyond them it is taken by
+    /// blocks ([`LeastSquares::jacobian_by_blocks`]).
+    jacobian_memory: usize,
+    /// Samples per block when the Jacobian is taken by blocks.
+    block_samples: usize,
 }
+
+/// The default of [`OutputError::set_jacobian_memory`]: 256 MiB, a
+/// Jacobian of 33 million entries (one of 10⁶ samples of 6 sensors and
+/// 5 parameters). A search holds it two or three times over, with the
+/// simulated sensitivities.
+pub const DEFAULT_JACOBIAN_MEMORY: usize = 256 << 20;
 
 /// Scratch memory of one evaluation.
 #[derive(Debug, Clone)]
@@ -160,7 +173,29 @@ impl<'m> OutputError<'m> {
             n_res: row0,
             counter: Counter::default(),
             cancel: Cancel::new(),
+            jacobian_memory: DEFAULT_JACOBIAN_MEMORY,
+            block_samples: factor::BLOCK_SAMPLES,
         }
+    }
+
+    /// Bytes the whole Jacobian (residuals × parameters) may take: a larger
+    /// one is never held whole, but handed to its triangular factor block
+    /// by block, straight from the simulation
+    /// ([`LeastSquares::residuals_factor`]). 0 always takes it by blocks.
+    pub fn set_jacobian_memory(&mut self, bytes: usize) {
+        self.jacobian_memory = bytes;
+    }
+
+    /// Samples per block (≥ 1; 4096 unless set) when the Jacobian is taken
+    /// by blocks: the same factor to rounding whatever the length.
+    pub fn set_block_samples(&mut self, samples: usize) {
+        self.block_samples = samples.max(1);
+    }
+
+    /// The bytes the whole Jacobian may take
+    /// ([`OutputError::set_jacobian_memory`]).
+    pub fn jacobian_memory(&self) -> usize {
+        self.jacobian_memory
     }
 
     /// The simulations run through this criterion so far (its clones and
@@ -482,7 +517,7 @@ impl LeastSquares for OutputError<'_> {
     }
 
     fn workspace(&self) -> OutputErrorWorkspace {
-        let n_cols = if self.parts.len() > 1 {
+        let n_cols = if self.parts.len() > 1 && !self.jacobian_by_blocks() {
             self.columns.len()
         } else {
             0
@@ -524,6 +559,39 @@ impl LeastSquares for OutputError<'_> {
                 jac.view_mut((part.row0, j), (rows, 1))
                     .copy_from(&pws.jac.column(j));
             }
+        }
+        Ok(())
+    }
+
+    fn jacobian_by_blocks(&self) -> bool {
+        jacobian_bytes(self.n_res, self.columns.len()) > self.jacobian_memory
+    }
+
+    /// The experiments one after the other, each simulated by blocks
+    /// (`factor`) with its columns in parallel groups.
+    fn residuals_factor(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        u: &[f64],
+        r: &mut [f64],
+        qr: &mut BlockedQr,
+    ) -> Result<(), SimulationError> {
+        self.check_cancel()?;
+        match qr.n_cols() == self.columns.len() {
+            true => qr.clear(),
+            false => *qr = BlockedQr::new(self.columns.len()),
+        }
+        let rows = self.split_rows(r);
+        for ((part, pws), r) in self.parts.iter().zip(&mut ws.parts).zip(rows) {
+            let result = part.residuals_factor(
+                pws,
+                (u, &self.maps),
+                r,
+                qr,
+                (self.block_samples, &self.cancel),
+            );
+            self.count(std::slice::from_ref(&result), true);
+            result?;
         }
         Ok(())
     }

@@ -130,6 +130,7 @@ impl Part<'_> {
         r: &mut [f64],
         jac: Option<(&mut DMatrix<f64>, usize)>,
     ) -> Result<(), SimulationError> {
+        let n_cols = maps.len();
         self.all_params(u, maps, &mut ws.params);
         self.data.sim.run_with_sensitivities(
             &ws.params,
@@ -144,7 +145,13 @@ impl Part<'_> {
         }
         let (jac, row0) = match jac {
             Some(j) => j,
-            None => (&mut ws.jac, 0),
+            None => {
+                // A workspace made without it (for the factor by blocks).
+                if ws.jac.nrows() != self.n_residuals() {
+                    ws.jac = DMatrix::zeros(self.n_residuals(), n_cols);
+                }
+                (&mut ws.jac, 0)
+            }
         };
         let n = ws.response.n_samples;
         let first = self.data.first;

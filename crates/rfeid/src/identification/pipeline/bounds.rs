@@ -1,9 +1,11 @@
 //! Stage 6, the bounds: Cramér–Rao standard errors and correlations
-//! (eq. 26–29) from the exact Jacobian at the estimate.
+//! (eq. 26–29) from the exact Jacobian at the estimate, whole or, for a
+//! long record, as its triangular factor built block by block.
+use crate::identification::blocked_qr::BlockedQr;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::{sum_of_squares, LeastSquares};
 use crate::identification::uncertainty::{
-    cramer_rao_mapped, CramerRao, UncertaintyError, UncertaintySettings,
+    cramer_rao_blocked, cramer_rao_mapped, CramerRao, UncertaintyError, UncertaintySettings,
 };
 use crate::simulation::SimulationError;
 use nalgebra::DMatrix;
@@ -33,18 +35,32 @@ pub(super) fn at(problem: &OutputError<'_>, u: &[f64], settings: &UncertaintySet
     let (n, r) = (problem.n_residuals(), problem.n_params());
     let mut ws = problem.workspace();
     let mut res = vec![0.0; n];
-    let mut jac = DMatrix::zeros(n, r);
-    if let Err(e) = problem.residuals_jacobian(&mut ws, u, &mut res, &mut jac) {
-        return Bounds {
+    let dx_du = problem.dx_du(u);
+    let analysis = if problem.jacobian_by_blocks() {
+        let mut qr = BlockedQr::new(r);
+        problem
+            .residuals_factor(&mut ws, u, &mut res, &mut qr)
+            .map(|()| {
+                let ssr = sum_of_squares(&res);
+                cramer_rao_blocked(&qr, ssr, &dx_du, problem.widths(), settings)
+            })
+    } else {
+        let mut jac = DMatrix::zeros(n, r);
+        problem
+            .residuals_jacobian(&mut ws, u, &mut res, &mut jac)
+            .map(|()| {
+                let ssr = sum_of_squares(&res);
+                cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), settings)
+            })
+    };
+    match analysis {
+        Err(e) => Bounds {
             cramer_rao: Err(BoundsError::Simulation(e)),
             s2: None,
-        };
-    }
-    let ssr = sum_of_squares(&res);
-    let dx_du = problem.dx_du(u);
-    Bounds {
-        cramer_rao: cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), settings)
-            .map_err(BoundsError::Analysis),
-        s2: Some(ssr / (n - r - 1) as f64),
+        },
+        Ok(cramer_rao) => Bounds {
+            cramer_rao: cramer_rao.map_err(BoundsError::Analysis),
+            s2: Some(sum_of_squares(&res) / (n - r - 1) as f64),
+        },
     }
 }

@@ -113,6 +113,9 @@ fn finish_stages(
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_finish = Instant::now();
+    if let Some(bytes) = settings.jacobian_memory {
+        problem.set_jacobian_memory(bytes);
+    }
     let plan = PlanRun::new(&problem, settings, plan, outcomes)?;
     let before = problem.tally();
     let searcher = Searcher::new(settings, problem.n_params(), progress)?;

@@ -143,6 +143,7 @@ fn window_problem<'m>(problem: &OutputError<'_>, short: &'m Model) -> OutputErro
     let mut window = OutputError::new(sim, truncated, problem.experiment_first(0));
     window.set_weights(&problem.weights());
     window.set_whitening(&problem.whitening());
+    window.set_jacobian_memory(problem.jacobian_memory());
     window.count_into(problem);
     window
 }

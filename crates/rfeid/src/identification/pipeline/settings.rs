@@ -3,6 +3,8 @@
 use crate::identification::bfgs::BfgsSettings;
 use crate::identification::lm::LmSettings;
 pub use crate::identification::noise::NoiseModel;
+#[cfg(doc)]
+use crate::identification::output_error::OutputError;
 pub use crate::identification::search::Method;
 use crate::identification::uncertainty::UncertaintySettings;
 use crate::identification::verdict::VerdictSettings;
@@ -68,6 +70,11 @@ pub struct Settings {
     /// far, until one passes (see the `restarts` stage). 0: none.
     /// `rfeid identify` uses [`DEFAULT_RESTARTS`].
     pub restarts: usize,
+    /// Bytes the whole Jacobian may take before the searches and the
+    /// bounds take it as its triangular factor, block by block from the
+    /// simulation ([`OutputError::set_jacobian_memory`]); `None` keeps the
+    /// criterion's own setting (256 MiB unless set).
+    pub jacobian_memory: Option<usize>,
 }
 
 /// The automatic restarts of `rfeid identify` ([`Settings::restarts`]).
