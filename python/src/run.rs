@@ -78,6 +78,7 @@ fn search_options(
             start,
             &[("plan", Start::Plan), ("values", Start::Values)],
         )?,
+        jacobian_memory: None,
     })
 }
 

@@ -221,6 +221,9 @@ pub struct SearchArgs {
     /// Each local search first fits this fraction of the record, then the whole record from there (0 ≤ FRACTION < 1; 0: off). Default 0.15 for `identify`, off for `demo`.
     #[arg(long, value_name = "FRACTION")]
     pub window: Option<f64>,
+    /// The most memory a whole Jacobian (residual rows × parameters) may take, MiB (default 256). A larger one is never held whole: the simulation hands its rows over in blocks of samples to the Jacobian's triangular factor, which gives the same steps, estimates and standard errors to rounding. 0: always by blocks.
+    #[arg(long, value_name = "MIB")]
+    pub jacobian_memory: Option<usize>,
 }
 
 /// `--method`.

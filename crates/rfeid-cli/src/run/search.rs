@@ -52,6 +52,7 @@ pub fn options(a: &SearchArgs, start: StartArg) -> SearchOptions {
         from: a.from,
         window: a.window,
         start: start_of(start),
+        jacobian_memory: a.jacobian_memory,
     }
 }
 

@@ -90,6 +90,9 @@ impl SearchSpec {
                 substeps: self.substeps,
             },
             window: self.window,
+            // Memory, like the threads, is the merging machine's: its
+            // default.
+            jacobian_memory: None,
         })
     }
 }
