@@ -315,6 +315,7 @@ def identify(
     start: str = "plan",
     tolerance: Optional[float] = None,
     substeps: Optional[int] = None,
+    jacobian_memory: Optional[int] = None,
     progress: bool = False,
 ) -> "Identification":
     """Identifies the parameters with a box from measured data, as
@@ -329,8 +330,11 @@ def identify(
     ``window`` the fraction of the record fitted first (0.15; 0 off),
     ``from_`` the first time fitted (s; ``--from``), ``threads`` (all
     cores; results do not depend on it), ``start`` ``"plan"`` or
-    ``"values"``, ``set`` parameters fixed for this run. ``progress=True``
-    shows the search's progress on standard error.
+    ``"values"``, ``set`` parameters fixed for this run,
+    ``jacobian_memory`` the most MiB a whole Jacobian may take (256; a
+    longer record's goes block by block into its triangular factor, the
+    same results to rounding; 0: always). ``progress=True`` shows the
+    search's progress on standard error.
 
     The GIL is released while it runs; Ctrl-C raises ``KeyboardInterrupt``
     within about a second.
@@ -355,6 +359,7 @@ def identify(
             start=start,
             tolerance=tolerance,
             substeps=substeps,
+            jacobian_memory=jacobian_memory,
             progress=bar,
         )
     finally:

@@ -67,6 +67,7 @@ def identify(
     start: str,
     tolerance: Optional[float],
     substeps: Optional[int],
+    jacobian_memory: Optional[int],
     progress: Optional[Callable[[int, int, int, int, int, float], None]],
 ) -> Tuple[Identification, List[str]]: ...
 

@@ -44,6 +44,7 @@ fn search_options(
     from_: f64,
     threads: Option<usize>,
     start: &str,
+    jacobian_memory: Option<usize>,
 ) -> PyResult<SearchOptions> {
     Ok(SearchOptions {
         plan,
@@ -78,7 +79,7 @@ fn search_options(
             start,
             &[("plan", Start::Plan), ("values", Start::Values)],
         )?,
-        jacobian_memory: None,
+        jacobian_memory,
     })
 }
 
@@ -155,7 +156,7 @@ fn search(
 /// result and the notes of the reading.
 #[pyfunction]
 #[pyo3(signature = (model, data, *, set, plan, starts, method, weights, noise_model, window,
-    from_, threads, start, tolerance, substeps, progress))]
+    from_, threads, start, tolerance, substeps, jacobian_memory, progress))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -173,6 +174,7 @@ pub fn identify(
     start: &str,
     tolerance: Option<f64>,
     substeps: Option<usize>,
+    jacobian_memory: Option<usize>,
     progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(PyIdentification, Vec<String>)> {
     let options = search_options(
@@ -185,6 +187,7 @@ pub fn identify(
         from_,
         threads,
         start,
+        jacobian_memory,
     )?;
     options.check().map_err(|e| option_error(&e))?;
     let fixed = set_values::fixed(model.model.clone(), &set).map_err(model_error)?;

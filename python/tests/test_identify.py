@@ -67,6 +67,25 @@ def test_a_mapping_and_options_with_the_command_lines_names(tmp_path, rfeid_cli,
     assert res.document["source"]["set"] == ["a_n4=6600000000000000.0"]
 
 
+def test_the_jacobian_by_blocks_as_on_the_command_line(tmp_path, rfeid_cli, knee_column):
+    """`jacobian_memory=0` takes every Jacobian by blocks, as
+    `--jacobian-memory 0` does (bit for bit), and lands where the whole
+    Jacobian does (to rounding)."""
+    data = measured(tmp_path, rfeid_cli, knee_column, seed=4)
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", knee_column, "--data", data, "-o", out, "-q", "--plan", "20", "--jacobian-memory", "0")
+    cli = json.loads(out.read_text())
+    m = rfeid.Model.load(knee_column)
+    blocks = rfeid.identify(m, str(data), plan=20, jacobian_memory=0)
+    whole = rfeid.identify(m, str(data), plan=20)
+    names = [p["name"] for p in cli["parameters"]]
+    assert close([blocks.estimates[n] for n in names], [p["estimate"] for p in cli["parameters"]])
+    assert close([blocks.std_errors[n] for n in names], [p["std_error"] for p in cli["parameters"]])
+    for n in names:
+        assert abs(blocks.estimates[n] - whole.estimates[n]) < 1e-6 * whole.std_errors[n]
+        assert close(blocks.std_errors[n], whole.std_errors[n], rel=1e-8)
+
+
 def test_data_lacking_a_sensor_names_the_column(tmp_path, rfeid_cli, knee_column):
     frame = read_csv_exact(measured(tmp_path, rfeid_cli, knee_column))
     with pytest.raises(rfeid.DataError) as e:
