@@ -92,21 +92,16 @@ fn factor_by_blocks_is_the_whole_jacobians() {
 #[test]
 fn a_campaigns_experiments_share_one_factor() {
     let (a, b) = (knee_column(0.3), knee_column(0.2));
+    let experiment = |name: &str, m, seed, first, weight| ExperimentData {
+        name: name.into(),
+        sim: Simulator::new(m),
+        measured: noisy(m, seed),
+        first,
+        weight,
+    };
     let experiments = vec![
-        ExperimentData {
-            name: "a".into(),
-            sim: Simulator::new(&a),
-            measured: noisy(&a, 2),
-            first: 0,
-            weight: 1.0,
-        },
-        ExperimentData {
-            name: "b".into(),
-            sim: Simulator::new(&b),
-            measured: noisy(&b, 3),
-            first: 10,
-            weight: 2.5,
-        },
+        experiment("a", &a, 2, 0, 1.0),
+        experiment("b", &b, 3, 10, 2.5),
     ];
     let mut problem = OutputError::campaign(experiments);
     problem.set_block_samples(333);

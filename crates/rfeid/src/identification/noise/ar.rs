@@ -153,6 +153,23 @@ impl Whitener {
             x[k] = acc;
         }
     }
+
+    /// Whitens `values`, the next samples of a record whose samples before
+    /// them are `past` (unfiltered, at most the filter's order p), as
+    /// [`Whitener::apply`] does them in the whole record, bit for bit; then
+    /// keeps the last p unfiltered samples in `past` for the next call.
+    /// `line` is scratch.
+    pub fn apply_after(&self, past: &mut Vec<f64>, values: &mut [f64], line: &mut Vec<f64>) {
+        line.clear();
+        line.extend_from_slice(past);
+        line.extend_from_slice(values);
+        let keep = self.coefficients.len().min(line.len());
+        past.clear();
+        past.extend_from_slice(&line[line.len() - keep..]);
+        let h = line.len() - values.len();
+        self.apply(line);
+        values.copy_from_slice(&line[h..]);
+    }
 }
 
 /// Σ (A(q) e)² for the coefficients `a` (a_1 … a_p): the sum of squares of

@@ -6,13 +6,13 @@
 //! A block's rows are the rows [`Part::residuals_jacobian`] writes for its
 //! samples, weighted and whitened by the same arithmetic: the whitening
 //! filter `A(q)` reaches back `p` samples, so each sensor keeps its last
-//! `p` unfiltered rows and filters them ahead of the block's. The
-//! residuals into `r` are those of [`Part::residuals`] bit for bit.
+//! `p` unfiltered rows and filters them ahead of the block's
+//! ([`crate::identification::noise::ar::Whitener::apply_after`]). The residuals into `r` are those of
+//! [`Part::residuals`] bit for bit.
 use super::part::{Part, PartWorkspace};
 use crate::identification::blocked_qr::BlockedQr;
 use crate::identification::box_map::BoxMap;
 use crate::identification::cancel::Cancel;
-use crate::identification::noise::ar::Whitener;
 use crate::simulation::{Block, SimulationError};
 use nalgebra::DMatrix;
 
@@ -52,10 +52,6 @@ impl Part<'_> {
                 Ok(())
             },
         )?;
-        let used = self.samples_used();
-        for (c, w) in self.whitening.iter().enumerate() {
-            w.apply(&mut r[c * used..(c + 1) * used]);
-        }
         Ok(())
     }
 }
@@ -86,8 +82,7 @@ impl Rows {
         }
     }
 
-    /// Turns block `b` into rows of `qr`, writing its unfiltered residuals
-    /// into `r`.
+    /// Turns block `b` into rows of `qr`, writing its residuals into `r`.
     fn take(
         &mut self,
         part: &Part<'_>,
@@ -128,49 +123,17 @@ impl Rows {
             if filter.coefficients().is_empty() {
                 continue;
             }
-            let order = filter.coefficients().len();
-            let rows = c * m..(c + 1) * m;
-            filter_with_past(
-                filter,
-                &mut self.past_res[c],
-                &mut self.res[rows],
-                order,
-                &mut self.line,
-            );
+            let rows = &mut self.res[c * m..(c + 1) * m];
+            filter.apply_after(&mut self.past_res[c], rows, &mut self.line);
+            // The whitened residuals are those of the whole record.
+            r[c * used + k0 - first..][..m].copy_from_slice(rows);
             let n_rows = self.jac.nrows();
             let data = self.jac.as_mut_slice();
             for (j, &col) in part.cols.iter().enumerate() {
                 let rows = &mut data[col * n_rows + c * m..col * n_rows + (c + 1) * m];
-                filter_with_past(
-                    filter,
-                    &mut self.past_jac[c][j],
-                    rows,
-                    order,
-                    &mut self.line,
-                );
+                filter.apply_after(&mut self.past_jac[c][j], rows, &mut self.line);
             }
         }
         qr.add_rows(&mut self.jac, &mut self.res);
     }
-}
-
-/// Filters `values` (the next of a sensor's rows) as if they followed
-/// `past` (the unfiltered rows before them, at most `order`), then keeps
-/// their last `order` unfiltered values in `past`.
-fn filter_with_past(
-    filter: &Whitener,
-    past: &mut Vec<f64>,
-    values: &mut [f64],
-    order: usize,
-    line: &mut Vec<f64>,
-) {
-    line.clear();
-    line.extend_from_slice(past);
-    line.extend_from_slice(values);
-    let keep = order.min(line.len());
-    past.clear();
-    past.extend_from_slice(&line[line.len() - keep..]);
-    let h = line.len() - values.len();
-    filter.apply(line);
-    values.copy_from_slice(&line[h..]);
 }

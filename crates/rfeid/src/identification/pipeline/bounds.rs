@@ -42,7 +42,8 @@ pub(super) fn at(problem: &OutputError<'_>, u: &[f64], settings: &UncertaintySet
             .residuals_factor(&mut ws, u, &mut res, &mut qr)
             .map(|()| {
                 let ssr = sum_of_squares(&res);
-                cramer_rao_blocked(&qr, ssr, &dx_du, problem.widths(), settings)
+                let bounds = cramer_rao_blocked(&qr, ssr, &dx_du, problem.widths(), settings);
+                (bounds, ssr)
             })
     } else {
         let mut jac = DMatrix::zeros(n, r);
@@ -50,7 +51,8 @@ pub(super) fn at(problem: &OutputError<'_>, u: &[f64], settings: &UncertaintySet
             .residuals_jacobian(&mut ws, u, &mut res, &mut jac)
             .map(|()| {
                 let ssr = sum_of_squares(&res);
-                cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), settings)
+                let bounds = cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), settings);
+                (bounds, ssr)
             })
     };
     match analysis {
@@ -58,9 +60,9 @@ pub(super) fn at(problem: &OutputError<'_>, u: &[f64], settings: &UncertaintySet
             cramer_rao: Err(BoundsError::Simulation(e)),
             s2: None,
         },
-        Ok(cramer_rao) => Bounds {
+        Ok((cramer_rao, ssr)) => Bounds {
             cramer_rao: cramer_rao.map_err(BoundsError::Analysis),
-            s2: Some(sum_of_squares(&res) / (n - r - 1) as f64),
+            s2: Some(ssr / (n - r - 1) as f64),
         },
     }
 }
