@@ -4,7 +4,7 @@
 use super::failures::{identify_failure, simulation_failure};
 use super::limits::{check_limits, start_threads};
 use super::progress::Bars;
-use super::show::steps_note;
+use super::show::search_steps_note;
 use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
@@ -107,7 +107,9 @@ fn prepare_from<'m>(
     if let Some(w) = p.constant_warning() {
         ui.note(format!("warning: {w}"));
     }
-    ui.note(steps_note(&p.problem.experiment_simulator(0).steps()));
+    ui.note(search_steps_note(
+        &p.problem.experiment_simulator(0).steps(),
+    ));
     Ok((p.problem, p.settings, Bars::new(a, ui)))
 }
 

@@ -63,6 +63,22 @@ pub fn steps_note(steps: &StepChoice) -> String {
     )
 }
 
+/// [`steps_note`] for an identification: with the fewer steps the plan and
+/// the searches take before the estimate is refined at the chosen ones,
+/// when there are fewer.
+pub fn search_steps_note(steps: &StepChoice) -> String {
+    match steps.search {
+        Some(s) => format!(
+            "{}; the plan and the searches take {} (estimated error {:.1e}), the estimate is refined at {}",
+            steps_note(steps),
+            s.substeps,
+            s.estimated_error,
+            steps.substeps
+        ),
+        None => steps_note(steps),
+    }
+}
+
 /// Notes where a run's report was written, if it wrote one.
 pub fn report_note(dir: Option<&Path>, ui: &Ui) {
     if let Some(dir) = dir {
@@ -181,6 +197,13 @@ fn write_search(out: &mut String, r: &IdentificationResult) {
     );
     if let Some(steps) = &r.simulation {
         let _ = writeln!(out, "{} (at the estimate)", steps_note(steps));
+        if let Some(s) = steps.search {
+            let _ = writeln!(
+                out,
+                "searches: the plan and the searches took {} step(s) per sample (estimated error {:.1e}); the estimate was refined at {}",
+                s.substeps, s.estimated_error, steps.substeps
+            );
+        }
     }
     if !r.noise.is_empty() {
         let list: Vec<String> = r

@@ -59,6 +59,31 @@ pub struct SearchOutcome {
     pub tally: Tally,
     /// Every iterate, the start first.
     pub history: Vec<Step>,
+    /// The residuals and the whole Jacobian at `u`, when the search ended
+    /// with them (Levenberg–Marquardt on a whole Jacobian), for the bounds
+    /// to take rather than simulate again ([`SearchOutcome::without_jacobian`]
+    /// drops them).
+    pub linearised: Option<Linearised>,
+}
+
+/// The residuals r(u) and the Jacobian ∂r/∂u (N × n) at a search's end.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Linearised {
+    /// r(u), weighted like J.
+    pub residuals: Vec<f64>,
+    /// ∂r/∂u.
+    pub jacobian: nalgebra::DMatrix<f64>,
+}
+
+impl SearchOutcome {
+    /// The outcome without its [`SearchOutcome::linearised`] (N × n
+    /// numbers), to be kept among others.
+    pub fn without_jacobian(self) -> Self {
+        SearchOutcome {
+            linearised: None,
+            ..self
+        }
+    }
 }
 
 /// A local search inside the box `[0, 1]^n`.
@@ -102,7 +127,15 @@ impl<E> From<LmResult<E>> for SearchOutcome {
             failed: r.failed_evaluations,
         };
         let history = r.history.into_iter().map(|h| (h.iteration, h.cost, h.u));
-        outcome(r.u, r.cost, r.stop_reason, r.iterations, tally, history)
+        // A factor R instead of J when the problem took it by blocks.
+        let linearised = (r.jacobian.nrows() == r.residuals.len()).then_some(Linearised {
+            residuals: r.residuals,
+            jacobian: r.jacobian,
+        });
+        SearchOutcome {
+            linearised,
+            ..outcome(r.u, r.cost, r.stop_reason, r.iterations, tally, history)
+        }
     }
 }
 
@@ -135,5 +168,6 @@ fn outcome(
         history: history
             .map(|(iteration, cost, u)| Step { iteration, cost, u })
             .collect(),
+        linearised: None,
     }
 }

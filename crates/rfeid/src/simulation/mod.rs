@@ -45,7 +45,7 @@ pub use integrator::{Integrator, Kernel};
 pub use response::{Response, Sensitivities};
 pub use run::{SampleState, SampleView, Span};
 pub use simulator::Simulator;
-pub use step_choice::StepChoice;
+pub use step_choice::{search_tolerance, SearchSteps, StepChoice};
 pub use workspace::Workspace;
 
 /// The default integration method.

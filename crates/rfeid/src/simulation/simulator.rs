@@ -56,6 +56,7 @@ impl<'m> Simulator<'m> {
                 tolerance: model.sampling.tolerance,
                 estimated_error: None,
                 runs: 0,
+                search: None,
             },
         }
     }
@@ -82,6 +83,21 @@ impl<'m> Simulator<'m> {
             substeps: self.integrator.substeps,
             ..steps
         };
+    }
+
+    /// Takes the steps a search may take ([`StepChoice::search`]) from now
+    /// on, if there are fewer such steps; [`Simulator::steps`] still
+    /// records the choice, and [`Simulator::set_steps`] goes back to it.
+    pub fn use_search_steps(&mut self) {
+        if let Some(s) = self.steps.search {
+            self.integrator.substeps = s.substeps.max(1);
+        }
+    }
+
+    /// Whether it takes fewer steps than [`Simulator::steps`] chose, for a
+    /// search ([`Simulator::use_search_steps`]).
+    pub fn searching(&self) -> bool {
+        self.integrator.substeps != self.steps.substeps
     }
 
     /// The model.

@@ -20,4 +20,29 @@ pub struct StepChoice {
     /// long record's check windows together as one).
     #[serde(default)]
     pub runs: usize,
+    /// Fewer steps per sample, among those checked, whose estimated error
+    /// is within [`search_tolerance`] of this tolerance: what a search may
+    /// take before its end is refined at `substeps` (see
+    /// [`crate::simulation::steps`], "Searches"); `None` if no checked
+    /// count below `substeps` met it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchSteps>,
+}
+
+/// Steps per sample that a search may take ([`StepChoice::search`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SearchSteps {
+    /// Integrator steps per sample interval.
+    pub substeps: usize,
+    /// Their estimated relative RMS error (at most [`search_tolerance`]).
+    pub estimated_error: f64,
+}
+
+/// The looser tolerance of the steps a search takes for a simulation
+/// tolerance `tolerance`: 100 times it, but at most 10⁻⁴ (and never
+/// tighter than `tolerance`). A search only has to rank plan points and
+/// find the basin; the error of its responses stays far below any
+/// sensor's noise, and the end is refined at the full tolerance.
+pub fn search_tolerance(tolerance: f64) -> f64 {
+    (100.0 * tolerance).min(1e-4).max(tolerance)
 }

@@ -41,9 +41,24 @@
 //! During an identification the choice is made once and held fixed (the
 //! criterion stays smooth), and checked again at the estimate
 //! ([`crate::identification::pipeline::identify`]).
+//!
+//! # Searches
+//!
+//! The plan and the searches need less: the plan only ranks its points,
+//! and a search only has to reach the minimum's neighbourhood. So the
+//! choice also keeps the fewest steps it checked on its way whose error is
+//! within [`search_tolerance`] (100 × `tolerance`, at most 10⁻⁴, far below
+//! any sensor's noise): [`StepChoice::search`]. The plan and the searches
+//! take those; the estimate is then refined by a search at the chosen
+//! steps, so the reported estimate, its bounds and its verdict are those of
+//! the full tolerance. On a 20-body machine tool with modes at 7 kHz,
+//! sampled at 10 kHz, one step per sample misses 10⁻⁷ (1.2e-7) and two are
+//! chosen; the plan and the searches take one. A plan point that the fewer
+//! steps cannot simulate is evaluated again at the chosen steps, and so is a
+//! search that fails.
 use super::run::{SampleView, Span};
 use super::simulator::Simulator;
-use super::step_choice::StepChoice;
+use super::step_choice::{search_tolerance, SearchSteps, StepChoice};
 use super::workspace::Workspace;
 use super::{SimulationError, DEFAULT_TABLEAU, MAX_SUBSTEPS};
 use crate::model::Model;
@@ -146,6 +161,8 @@ fn choose_steps_keeping<'w>(
     let order = DEFAULT_TABLEAU.order as f64;
     let mut s = from.clamp(1, MAX_SUBSTEPS);
     let mut runs = 0;
+    // The fewest steps checked that a search may take (s only grows).
+    let mut search = None;
     loop {
         runs += 2;
         let outcome = match checked_run(model, params, s, watch.as_deref_mut()) {
@@ -156,10 +173,19 @@ fn choose_steps_keeping<'w>(
                     tolerance,
                     estimated_error: Some(e),
                     runs,
+                    search,
                 };
                 return Ok((choice, run));
             }
-            Ok((e, _)) => Ok(e),
+            Ok((e, _)) => {
+                if search.is_none() && e <= search_tolerance(tolerance) {
+                    search = Some(SearchSteps {
+                        substeps: s,
+                        estimated_error: e,
+                    });
+                }
+                Ok(e)
+            }
             Err(e) => Err(e),
         };
         let next = match &outcome {
@@ -248,6 +274,7 @@ impl<'m> Simulator<'m> {
                     tolerance,
                     estimated_error: Some(e),
                     runs: 2,
+                    search: None,
                 };
                 (choice, chosen)
             }
@@ -292,6 +319,38 @@ mod tests {
         let c = choose_steps(&fast, &fast.nominal(), 1e-8, 1).unwrap();
         assert!(c.substeps > 1, "{c:?}");
         assert!(c.estimated_error.unwrap() <= 1e-8, "{c:?}");
+    }
+
+    #[test]
+    fn the_choice_keeps_the_fewer_steps_a_search_may_take() {
+        // A 200 Hz mode at 1 kHz: one step per sample is close to 1e-8.
+        let m = oscillator(200.0, 1000.0);
+        let p = m.nominal();
+        let e1 = estimate_error(&m, &p, 1).unwrap();
+        // One step misses the tolerance but meets the search's: kept.
+        let c = choose_steps(&m, &p, e1 / 10.0, 1).unwrap();
+        assert!(c.substeps >= 2, "{c:?}");
+        assert_eq!(
+            c.search,
+            Some(SearchSteps {
+                substeps: 1,
+                estimated_error: e1
+            }),
+            "{c:?}"
+        );
+        // One step misses even the search's tolerance (100 ×): none kept.
+        let c = choose_steps(&m, &p, e1 / 1000.0, 1).unwrap();
+        assert_eq!(c.search, None, "{c:?}");
+        // One step meets the tolerance: nothing fewer to keep.
+        let c = choose_steps(&m, &p, e1 * 2.0, 1).unwrap();
+        assert_eq!((c.substeps, c.search), (1, None), "{c:?}");
+    }
+
+    #[test]
+    fn the_search_tolerance_is_looser_but_capped() {
+        assert_eq!(search_tolerance(1e-7), 100.0 * 1e-7);
+        assert_eq!(search_tolerance(1e-5), 1e-4);
+        assert_eq!(search_tolerance(1e-3), 1e-3);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use crate::run::failures::{identify_failure, simulation_failure};
 use crate::run::limits::start_threads;
 use crate::run::report::render_campaign;
 use crate::run::search::search_settings;
-use crate::run::show::{json_conflict, steps_note};
+use crate::run::show::{json_conflict, search_steps_note};
 use crate::ui::Ui;
 use rfeid::identification::output_error::{ExperimentData, OutputError};
 use rfeid::identification::pipeline::identify;
@@ -154,7 +154,7 @@ fn fitted_part<'m>(
     ui.note(format!(
         "experiment \"{}\": {}",
         x.name,
-        steps_note(&sim.steps())
+        search_steps_note(&sim.steps())
     ));
     Ok(ExperimentData {
         name: x.name.clone(),

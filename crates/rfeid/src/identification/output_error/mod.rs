@@ -390,6 +390,40 @@ impl<'m> OutputError<'m> {
         self.parts[p].data.sim.set_steps(steps);
     }
 
+    /// Every experiment takes the steps a search may take from now on
+    /// ([`Simulator::use_search_steps`]); [`OutputError::set_experiment_steps`]
+    /// or [`OutputError::at_chosen_steps`] go back to the chosen ones.
+    pub fn use_search_steps(&mut self) {
+        for part in &mut self.parts {
+            part.data.sim.use_search_steps();
+        }
+    }
+
+    /// Whether an experiment takes fewer steps than were chosen for it
+    /// ([`Simulator::searching`]).
+    pub fn searching(&self) -> bool {
+        self.parts.iter().any(|p| p.data.sim.searching())
+    }
+
+    /// Whether an experiment's step choice allows a search fewer steps
+    /// ([`crate::simulation::StepChoice::search`]).
+    pub fn has_search_steps(&self) -> bool {
+        self.parts
+            .iter()
+            .any(|p| p.data.sim.steps().search.is_some())
+    }
+
+    /// This criterion with every experiment at its chosen steps (a clone
+    /// counted into the same tally and cancelled with it).
+    pub fn at_chosen_steps(&self) -> OutputError<'m> {
+        let mut chosen = self.clone();
+        for part in &mut chosen.parts {
+            let steps = part.data.sim.steps();
+            part.data.sim.set_steps(steps);
+        }
+        chosen
+    }
+
     /// All of experiment p's parameter values at u.
     pub fn experiment_params(&self, p: usize, u: &[f64], out: &mut Vec<f64>) {
         self.parts[p].all_params(u, &self.maps, out);

@@ -1,7 +1,9 @@
 //! Stage 5, the accuracy at the estimate: the steps per sample were chosen
 //! before the search and held fixed (so that J stays smooth); they are
-//! checked at the estimate, and if it needs finer ones the search goes on
-//! with those. Modes above the Nyquist frequency are named.
+//! checked at the estimate, and if it needs finer ones, or the searches
+//! took the fewer steps a search may (`crate::simulation::steps`,
+//! "Searches"), the search goes on at the checked steps. Modes above the
+//! Nyquist frequency are named.
 use super::error::IdentifyError;
 use super::searcher::Searcher;
 use crate::identification::output_error::OutputError;
@@ -12,7 +14,9 @@ use crate::simulation::steps::{choose_steps, estimate_error};
 use crate::simulation::StepChoice;
 
 /// The steps checked at the estimate; the estimate, refined if finer steps
-/// were needed, and the warnings.
+/// were needed or the searches took fewer (with the residuals and
+/// Jacobian its search ended with, for the bounds), and the warnings.
+/// Every experiment takes its checked steps afterwards.
 pub(super) fn check(
     problem: &mut OutputError<'_>,
     searcher: &Searcher<'_>,
@@ -20,18 +24,29 @@ pub(super) fn check(
 ) -> Result<(SearchOutcome, Vec<Warning>), IdentifyError> {
     let mut warnings = Vec::new();
     for _ in 0..3 {
-        let mut finer = false;
+        // Finer steps than chosen (check again after the search), or back
+        // from a search's fewer steps to the checked ones (no need to).
+        let (mut finer, mut back) = (false, false);
         for p in 0..problem.n_experiments() {
+            let ran = problem.experiment_simulator(p).integrator().substeps;
             match check_steps(problem, p, &best.u) {
                 Ok(Checked::Finer) => finer = true,
                 Ok(Checked::Held(w)) => warnings.extend(w),
-                Err(e) => warnings.push(Warning::StepsUnchecked(e)),
+                Err(e) => {
+                    warnings.push(Warning::StepsUnchecked(e));
+                    let chosen = problem.experiment_simulator(p).steps();
+                    problem.set_experiment_steps(p, chosen);
+                }
             }
+            back |= problem.experiment_simulator(p).integrator().substeps != ran;
         }
+        if !finer && !back {
+            break;
+        }
+        best = searcher.refine(problem, &best.u)?;
         if !finer {
             break;
         }
-        best = searcher.search(problem, &best.u)?;
     }
     warnings.dedup();
     for p in 0..problem.n_experiments() {
@@ -49,7 +64,7 @@ pub(super) fn check(
 
 /// What the check of one experiment's steps found.
 enum Checked {
-    /// Finer steps are needed: the search must go on.
+    /// Finer steps than chosen are needed: the search must go on.
     Finer,
     /// The steps stay; a warning if their error exceeds the tolerance.
     Held(Option<Warning>),
@@ -64,8 +79,8 @@ fn check_steps(
 ) -> Result<Checked, crate::simulation::SimulationError> {
     let mut x = Vec::new();
     problem.experiment_params(p, u, &mut x);
-    let model = problem.experiment_simulator(p).model();
-    let held = problem.experiment_simulator(p).steps();
+    let sim = problem.experiment_simulator(p);
+    let (model, held) = (sim.model(), sim.steps());
     let c = match held.automatic {
         true => choose_steps(model, &x, held.tolerance, held.substeps),
         false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
@@ -79,6 +94,8 @@ fn check_steps(
         p,
         StepChoice {
             runs: held.runs + c.runs,
+            // Checked from the held steps up, the check rarely sees fewer.
+            search: c.search.or(held.search).filter(|s| s.substeps < c.substeps),
             ..c
         },
     );

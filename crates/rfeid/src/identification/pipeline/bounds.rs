@@ -4,6 +4,7 @@
 use crate::identification::blocked_qr::BlockedQr;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::{sum_of_squares, LeastSquares};
+use crate::identification::search::Linearised;
 use crate::identification::uncertainty::{
     cramer_rao_blocked, cramer_rao_mapped, CramerRao, UncertaintyError, UncertaintySettings,
 };
@@ -30,12 +31,35 @@ pub(super) struct Bounds {
     pub s2: Option<f64>,
 }
 
-/// The bounds at `u`.
-pub(super) fn at(problem: &OutputError<'_>, u: &[f64], settings: &UncertaintySettings) -> Bounds {
+/// The bounds at `u`, from the Jacobian a search ended with there
+/// (`linearised`) if the criterion's residuals at `u` are still its
+/// residuals bit for bit (same weights, whitening and steps), otherwise
+/// from a simulation with sensitivities.
+pub(super) fn at(
+    problem: &OutputError<'_>,
+    u: &[f64],
+    linearised: Option<&Linearised>,
+    settings: &UncertaintySettings,
+) -> Bounds {
     let (n, r) = (problem.n_residuals(), problem.n_params());
     let mut ws = problem.workspace();
     let mut res = vec![0.0; n];
     let dx_du = problem.dx_du(u);
+    if let Some(l) = linearised.filter(|_| !problem.jacobian_by_blocks()) {
+        let same = problem.residuals(&mut ws, u, &mut res).is_ok()
+            && res
+                .iter()
+                .zip(&l.residuals)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+        if same && l.jacobian.shape() == (n, r) {
+            let ssr = sum_of_squares(&res);
+            let bounds = cramer_rao_mapped(&l.jacobian, ssr, &dx_du, problem.widths(), settings);
+            return Bounds {
+                cramer_rao: bounds.map_err(BoundsError::Analysis),
+                s2: Some(ssr / (n - r - 1) as f64),
+            };
+        }
+    }
     let analysis = if problem.jacobian_by_blocks() {
         let mut qr = BlockedQr::new(r);
         problem

@@ -7,7 +7,9 @@
 //!    best points, on a short window of the record first;
 //! 3. `weights`: sensors weighted by their estimated noise (eq. 14);
 //! 4. `restarts`: more starts when every end fails the fit checks;
-//! 5. `accuracy`: the steps per sample checked at the estimate;
+//! 5. `accuracy`: the steps per sample checked at the estimate, and the
+//!    estimate refined there when the plan and the searches took fewer
+//!    (`crate::simulation::steps`, "Searches");
 //! 6. `bounds`: Cramér–Rao bounds (eq. 26–29);
 //! 7. `judge`: the verdict;
 //! 8. `assemble`: the [`IdentificationResult`].
@@ -116,6 +118,8 @@ fn finish_stages(
     if let Some(bytes) = settings.jacobian_memory {
         problem.set_jacobian_memory(bytes);
     }
+    // Until the accuracy stage, the searches take the steps a search may.
+    problem.use_search_steps();
     let plan = PlanRun::new(&problem, settings, plan, outcomes)?;
     let before = problem.tally();
     let searcher = Searcher::new(settings, problem.n_params(), progress)?;
@@ -135,7 +139,12 @@ fn finish_stages(
     let (best, step_warnings) = accuracy::check(&mut problem, &searcher, best)?;
     let t_local = t_local.elapsed().as_secs_f64();
     let t_bounds = Instant::now();
-    let bounds = bounds::at(&problem, &best.u, &settings.uncertainty);
+    let bounds = bounds::at(
+        &problem,
+        &best.u,
+        best.linearised.as_ref(),
+        &settings.uncertainty,
+    );
     let t_bounds = t_bounds.elapsed().as_secs_f64();
     let fitted = problem.simulate_all(&best.u);
     let verdict = judge::verdict(&problem, &best, &kept, &bounds, &fitted, settings);

@@ -36,6 +36,11 @@ pub fn plan(problem: &OutputError<'_>, settings: &Settings) -> Result<Plan, Iden
 /// J (eq. 16) at the plan points at positions `indices`, in parallel, in
 /// the order of `indices`. Each point is evaluated on its own, so its J is
 /// bit-identical whichever subset (shard) or thread evaluates it.
+///
+/// The points are simulated with the steps a search may take
+/// ([`crate::simulation::StepChoice::search`]), which rank them as the
+/// chosen ones do; a point those cannot simulate is evaluated again at the
+/// chosen steps, and fails only if it fails there too.
 pub fn evaluate_points(
     problem: &OutputError<'_>,
     plan: &Plan,
@@ -43,7 +48,24 @@ pub fn evaluate_points(
     progress: &dyn Progress,
 ) -> Result<Vec<PointOutcome>, IdentifyError> {
     let tick = || progress.plan_point();
-    let outcomes = evaluate_indices(problem, plan, indices, Some(&tick))?;
+    let searching = problem.has_search_steps().then(|| {
+        let mut p = problem.clone();
+        p.use_search_steps();
+        p
+    });
+    let first = searching.as_ref().unwrap_or(problem);
+    let mut outcomes = evaluate_indices(first, plan, indices, Some(&tick))?;
+    let failed: Vec<usize> = (0..indices.len())
+        .filter(|&k| searching.is_some() && outcomes[k].is_err())
+        .collect();
+    if !failed.is_empty() && !problem.cancel().is_set() {
+        let again: Vec<usize> = failed.iter().map(|&k| indices[k]).collect();
+        let chosen = problem.searching().then(|| problem.at_chosen_steps());
+        let retried = evaluate_indices(chosen.as_ref().unwrap_or(problem), plan, &again, None)?;
+        for (k, o) in failed.into_iter().zip(retried) {
+            outcomes[k] = o;
+        }
+    }
     Ok(outcomes
         .into_iter()
         .map(|o| o.map_err(|e| e.to_string()))

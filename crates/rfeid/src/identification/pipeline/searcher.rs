@@ -48,13 +48,24 @@ impl<'s> Searcher<'s> {
         self.progress
     }
 
-    /// One local search on the whole of `problem` from `u0`.
+    /// One local search on the whole of `problem` from `u0` (again at the
+    /// chosen steps if it fails at a search's fewer ones: `falling_back`).
     pub fn search(
         &self,
         problem: &OutputError<'_>,
         u0: &[f64],
     ) -> Result<SearchOutcome, SearchError> {
-        self.search_with(problem, u0, &self.settings.lm)
+        Ok(self.refine(problem, u0)?.without_jacobian())
+    }
+
+    /// [`Searcher::search`], its outcome with the residuals and Jacobian
+    /// it ended with ([`SearchOutcome::linearised`]), if any.
+    pub fn refine(
+        &self,
+        problem: &OutputError<'_>,
+        u0: &[f64],
+    ) -> Result<SearchOutcome, SearchError> {
+        falling_back(problem, |p| self.search_with(p, u0, &self.settings.lm))
     }
 
     fn search_with(
@@ -71,7 +82,8 @@ impl<'s> Searcher<'s> {
     }
 
     /// A search from a start: on the short window first if
-    /// [`Settings::window`] says so, then on the whole record. The tally
+    /// [`Settings::window`] says so, then on the whole record (each again at
+    /// the chosen steps if it fails at a search's fewer ones). The tally
     /// includes both searches; the history is the last one's. A window
     /// search that fails is a warning, and the start searches the whole
     /// record from where it was.
@@ -85,8 +97,9 @@ impl<'s> Searcher<'s> {
             return self.search(problem, u0);
         };
         let window = window_problem(problem, &short);
-        let (u1, pre) = match self.search_with(&window, u0, &self.window_lm) {
-            Ok(s) => (s.u.clone(), Some(s)),
+        let on_window = falling_back(&window, |p| self.search_with(p, u0, &self.window_lm));
+        let (u1, pre) = match on_window {
+            Ok(s) => (s.u.clone(), Some(s.without_jacobian())),
             Err(reason) => {
                 warnings.push(Warning::WindowFailed { fraction, reason });
                 (u0.to_vec(), None)
@@ -121,9 +134,26 @@ impl<'s> Searcher<'s> {
     }
 }
 
+/// `search` on `problem`, and if it fails there at the fewer steps of a
+/// search ([`OutputError::searching`]), again at the chosen steps (where
+/// the fewer steps are unstable, say, as they can be far from the point
+/// they were chosen at).
+fn falling_back(
+    problem: &OutputError<'_>,
+    mut search: impl FnMut(&OutputError<'_>) -> Result<SearchOutcome, SearchError>,
+) -> Result<SearchOutcome, SearchError> {
+    match search(problem) {
+        Err(_) if problem.searching() && !problem.cancel().is_set() => {
+            search(&problem.at_chosen_steps())
+        }
+        outcome => outcome,
+    }
+}
+
 /// The criterion on `short`'s part of `problem`'s record (a data file on
 /// its own: one experiment), with the whole
-/// record's weights, integrator and steps per sample, counted into
+/// record's weights, integrator and steps per sample (those of a search,
+/// if it takes them), counted into
 /// `problem`'s tally.
 fn window_problem<'m>(problem: &OutputError<'_>, short: &'m Model) -> OutputError<'m> {
     let n_w = short.sampling.n_samples();
@@ -140,6 +170,9 @@ fn window_problem<'m>(problem: &OutputError<'_>, short: &'m Model) -> OutputErro
     let whole = problem.experiment_simulator(0);
     let mut sim = Simulator::with_integrator(short, whole.integrator());
     sim.set_steps(whole.steps());
+    if whole.searching() {
+        sim.use_search_steps();
+    }
     let mut window = OutputError::new(sim, truncated, problem.experiment_first(0));
     window.set_weights(&problem.weights());
     window.set_whitening(&problem.whitening());
