@@ -6,23 +6,23 @@
 //! evaluated at the chosen ones.
 mod common;
 
-use common::model;
+use common::{model, simulate_nominal};
+use nalgebra::DMatrix;
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{evaluate_points, identify, plan, Settings, Silent};
+use rfeid::identification::problem::{evaluate_cost, sum_of_squares, LeastSquares};
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::uncertainty::{cramer_rao_mapped, CramerRao, UncertaintySettings};
 use rfeid::identification::warning::Warning;
 use rfeid::io::model_file::load_model;
 use rfeid::measurement::add_noise;
 use rfeid::model::Model;
 use rfeid::simulation::steps::estimate_error;
-use rfeid::simulation::{Response, SearchSteps, Simulator, StepChoice, Workspace};
+use rfeid::simulation::{Response, SearchSteps, Simulator, StepChoice};
 use std::path::Path;
 
 fn noisy(model: &Model, seed: u64) -> Response {
-    let sim = Simulator::new(model);
-    let mut out = sim.response_buffer();
-    sim.run(&model.nominal(), &mut Workspace::default(), &mut out)
-        .expect("simulates");
+    let mut out = simulate_nominal(model, None);
     add_noise(&mut out, 0.01, seed);
     out
 }
@@ -74,6 +74,32 @@ fn the_searches_take_fewer_steps_and_end_at_the_chosen_steps_minimum() {
         let (x, y) = (x.unwrap(), y.unwrap());
         assert!((x - y).abs() <= 1e-6 * y, "plan J {x} against {y}");
     }
+    // The reported J and standard errors are the chosen steps' at the
+    // estimate (the bounds from the refining search's Jacobian); one step
+    // per sample gives another J.
+    let x: Vec<f64> = fewer.parameters.iter().map(|p| p.estimate).collect();
+    let criterion = |sim| OutputError::new(sim, data.clone(), 0);
+    let at_chosen = criterion(without_search_steps(Simulator::new(&m)));
+    let mut one = Simulator::new(&m);
+    one.use_search_steps();
+    let (j_chosen, j_one) = (cost_at(&at_chosen, &x), cost_at(&criterion(one), &x));
+    println!(
+        "J reported {:.15e}, at the chosen steps {j_chosen:.15e}, at one step {j_one:.15e}",
+        fewer.criterion
+    );
+    assert!((fewer.criterion - j_chosen).abs() <= 1e-13 * j_chosen);
+    assert!((j_one - j_chosen).abs() > 1e-11 * j_chosen);
+    // Measured: the same bit for bit.
+    let fresh = cramer_rao_at(&at_chosen, &x);
+    for (p, se) in fewer.parameters.iter().zip(&fresh.std_errors) {
+        let rel = (p.std_error.unwrap() - se).abs() / se;
+        assert!(
+            rel <= 1e-14,
+            "{}: {} against {se} ({rel:e})",
+            p.name,
+            p.std_error.unwrap()
+        );
+    }
     // Each search stops within √0.05 = 0.22 standard errors of the chosen
     // steps' minimum (the Gauss–Newton decrement test), so the two
     // estimates are within 0.45 of each other.
@@ -87,6 +113,27 @@ fn the_searches_take_fewer_steps_and_end_at_the_chosen_steps_minimum() {
         assert!(apart <= 0.45, "{}", p.name);
         assert!((sp - sq).abs() <= 1e-2 * sq, "{}", p.name);
     }
+}
+
+/// J (eq. 16) of `problem` at the physical values `x`.
+fn cost_at(problem: &OutputError<'_>, x: &[f64]) -> f64 {
+    let u = problem.to_normalised(x);
+    let mut r = vec![0.0; problem.n_residuals()];
+    evaluate_cost(problem, &mut problem.workspace(), &u, &mut r).expect("evaluates")
+}
+
+/// The Cramér–Rao bounds (eq. 26–29) of `problem` at the physical values
+/// `x`, from a simulation with sensitivities there.
+fn cramer_rao_at(problem: &OutputError<'_>, x: &[f64]) -> CramerRao {
+    let u = problem.to_normalised(x);
+    let (n, r) = (problem.n_residuals(), problem.n_params());
+    let (mut res, mut jac) = (vec![0.0; n], DMatrix::zeros(n, r));
+    problem
+        .residuals_jacobian(&mut problem.workspace(), &u, &mut res, &mut jac)
+        .expect("simulates");
+    let settings = UncertaintySettings::default();
+    let (dx_du, widths) = (problem.dx_du(&u), problem.widths());
+    cramer_rao_mapped(&jac, sum_of_squares(&res), &dx_du, widths, &settings).expect("bounds")
 }
 
 /// One mass on a spring whose stiffness the plan spans over a factor of

@@ -84,6 +84,29 @@ impl SearchOutcome {
             ..self
         }
     }
+
+    /// This search continued by `next`, which started where this one
+    /// ended (on a changed criterion: other steps per sample, say): `next`'s
+    /// end, stop and Jacobian; the iterations and evaluations of both; the
+    /// history of both, `next`'s numbered on from this one's (its start, the
+    /// same point with the changed criterion's J, under this one's last
+    /// number).
+    pub fn then(mut self, next: SearchOutcome) -> Self {
+        let offset = self.iterations;
+        self.history.extend(next.history.into_iter().map(|s| Step {
+            iteration: s.iteration + offset,
+            ..s
+        }));
+        SearchOutcome {
+            u: next.u,
+            cost: next.cost,
+            stop: next.stop,
+            iterations: self.iterations + next.iterations,
+            tally: self.tally + next.tally,
+            history: self.history,
+            linearised: next.linearised,
+        }
+    }
 }
 
 /// A local search inside the box `[0, 1]^n`.

@@ -21,8 +21,8 @@ pub struct StepChoice {
     #[serde(default)]
     pub runs: usize,
     /// Fewer steps per sample, among those checked, whose estimated error
-    /// is within [`search_tolerance`] of this tolerance: what a search may
-    /// take before its end is refined at `substeps` (see
+    /// is within [`search_tolerance`]`(tolerance)`: what the plan and the
+    /// searches take before the estimate is refined at `substeps` (see
     /// [`crate::simulation::steps`], "Searches"); `None` if no checked
     /// count below `substeps` met it.
     #[serde(default, skip_serializing_if = "Option::is_none")]

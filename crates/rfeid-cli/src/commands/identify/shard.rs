@@ -152,6 +152,11 @@ fn evaluate(
         .filter(|i| !done.contains_key(i))
         .collect();
     let chunk = (4 * rayon::current_num_threads()).max(1);
+    // Switched to the searches' fewer steps once, not at every chunk
+    // (`evaluate_points` would otherwise take a copy of the problem each time).
+    let mut switched = problem.clone();
+    switched.use_search_steps();
+    let problem = &switched;
     let mut since = Instant::now();
     let started = Instant::now();
     let base_seconds = file.seconds;

@@ -10,6 +10,7 @@
 //! ([`crate::identification::noise::ar::Whitener::apply_after`]). The residuals into `r` are those of
 //! [`Part::residuals`] bit for bit.
 use super::part::{Part, PartWorkspace};
+use super::OutputError;
 use crate::identification::blocked_qr::BlockedQr;
 use crate::identification::box_map::BoxMap;
 use crate::identification::cancel::Cancel;
@@ -21,6 +22,29 @@ use nalgebra::DMatrix;
 /// beside the cost of starting a block (the static equilibrium, the
 /// kernel's set-up).
 pub(super) const BLOCK_SAMPLES: usize = 4096;
+
+impl OutputError<'_> {
+    /// Bytes the whole Jacobian (residuals × parameters) may take: a larger
+    /// one is never held whole, but handed to its triangular factor block
+    /// by block, straight from the simulation
+    /// ([`crate::identification::problem::LeastSquares::residuals_factor`]).
+    /// 0 always takes it by blocks.
+    pub fn set_jacobian_memory(&mut self, bytes: usize) {
+        self.jacobian_memory = bytes;
+    }
+
+    /// Samples per block (≥ 1; 4096 unless set) when the Jacobian is taken
+    /// by blocks: the same factor to rounding whatever the length.
+    pub fn set_block_samples(&mut self, samples: usize) {
+        self.block_samples = samples.max(1);
+    }
+
+    /// The bytes the whole Jacobian may take
+    /// ([`OutputError::set_jacobian_memory`]).
+    pub fn jacobian_memory(&self) -> usize {
+        self.jacobian_memory
+    }
+}
 
 impl Part<'_> {
     /// Residuals into `r` (this part's rows) and the Jacobian's rows into

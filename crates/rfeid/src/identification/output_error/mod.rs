@@ -32,6 +32,7 @@ use rayon::prelude::*;
 
 mod factor;
 mod part;
+mod steps;
 use part::{Part, PartWorkspace};
 
 /// One experiment's data for [`OutputError::campaign`].
@@ -176,26 +177,6 @@ impl<'m> OutputError<'m> {
             jacobian_memory: DEFAULT_JACOBIAN_MEMORY,
             block_samples: factor::BLOCK_SAMPLES,
         }
-    }
-
-    /// Bytes the whole Jacobian (residuals × parameters) may take: a larger
-    /// one is never held whole, but handed to its triangular factor block
-    /// by block, straight from the simulation
-    /// ([`LeastSquares::residuals_factor`]). 0 always takes it by blocks.
-    pub fn set_jacobian_memory(&mut self, bytes: usize) {
-        self.jacobian_memory = bytes;
-    }
-
-    /// Samples per block (≥ 1; 4096 unless set) when the Jacobian is taken
-    /// by blocks: the same factor to rounding whatever the length.
-    pub fn set_block_samples(&mut self, samples: usize) {
-        self.block_samples = samples.max(1);
-    }
-
-    /// The bytes the whole Jacobian may take
-    /// ([`OutputError::set_jacobian_memory`]).
-    pub fn jacobian_memory(&self) -> usize {
-        self.jacobian_memory
     }
 
     /// The simulations run through this criterion so far (its clones and
@@ -384,52 +365,15 @@ impl<'m> OutputError<'m> {
         self.parts[0].data.sim.model()
     }
 
-    /// Experiment p simulates with `steps` steps per sample from now on (the
-    /// criterion changes with them: use between searches, never within one).
-    pub fn set_experiment_steps(&mut self, p: usize, steps: crate::simulation::StepChoice) {
-        self.parts[p].data.sim.set_steps(steps);
-    }
-
-    /// Every experiment takes the steps a search may take from now on
-    /// ([`Simulator::use_search_steps`]); [`OutputError::set_experiment_steps`]
-    /// or [`OutputError::at_chosen_steps`] go back to the chosen ones.
-    pub fn use_search_steps(&mut self) {
-        for part in &mut self.parts {
-            part.data.sim.use_search_steps();
-        }
-    }
-
-    /// Whether an experiment takes fewer steps than were chosen for it
-    /// ([`Simulator::searching`]).
-    pub fn searching(&self) -> bool {
-        self.parts.iter().any(|p| p.data.sim.searching())
-    }
-
-    /// Whether an experiment's step choice allows a search fewer steps
-    /// ([`crate::simulation::StepChoice::search`]).
-    pub fn has_search_steps(&self) -> bool {
-        self.parts
-            .iter()
-            .any(|p| p.data.sim.steps().search.is_some())
-    }
-
-    /// This criterion with every experiment at its chosen steps (a clone
-    /// counted into the same tally and cancelled with it).
-    pub fn at_chosen_steps(&self) -> OutputError<'m> {
-        let mut chosen = self.clone();
-        for part in &mut chosen.parts {
-            let steps = part.data.sim.steps();
-            part.data.sim.set_steps(steps);
-        }
-        chosen
-    }
-
     /// All of experiment p's parameter values at u.
     pub fn experiment_params(&self, p: usize, u: &[f64], out: &mut Vec<f64>) {
         self.parts[p].all_params(u, &self.maps, out);
     }
 
-    /// Every experiment's simulated response at u, in parallel.
+    /// Every experiment's simulated response at u, in parallel, at its
+    /// chosen steps even while the searches take fewer
+    /// ([`OutputError::use_search_steps`]): the fit is judged, and the noise
+    /// estimated, at the full tolerance.
     pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
         let results: Vec<_> = (0..self.parts.len())
             .into_par_iter()
@@ -439,14 +383,20 @@ impl<'m> OutputError<'m> {
         results.into_iter().collect()
     }
 
-    /// Experiment `i`'s simulated response at u.
+    /// Experiment `i`'s simulated response at u, at its chosen steps.
     fn simulate_part(&self, i: usize, u: &[f64]) -> Result<Response, SimulationError> {
         self.check_cancel()?;
         let part = &self.parts[i];
         let mut ws = part.workspace(0);
         part.all_params(u, &self.maps, &mut ws.params);
-        part.data
-            .sim
+        let chosen = part.data.sim.searching().then(|| {
+            let mut sim = part.data.sim.clone();
+            sim.set_steps(sim.steps());
+            sim
+        });
+        chosen
+            .as_ref()
+            .unwrap_or(&part.data.sim)
             .run(&ws.params, &mut ws.sim, &mut ws.response)?;
         Ok(ws.response)
     }

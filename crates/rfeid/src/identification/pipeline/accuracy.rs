@@ -14,9 +14,10 @@ use crate::simulation::steps::{choose_steps, estimate_error};
 use crate::simulation::StepChoice;
 
 /// The steps checked at the estimate; the estimate, refined if finer steps
-/// were needed or the searches took fewer (with the residuals and
-/// Jacobian its search ended with, for the bounds), and the warnings.
-/// Every experiment takes its checked steps afterwards.
+/// were needed or the searches took fewer (the search continued: see
+/// [`SearchOutcome::then`]; with the residuals and whole Jacobian it ended
+/// with, when Levenberg–Marquardt took one, for the bounds), and the
+/// warnings. Every experiment takes its checked steps afterwards.
 pub(super) fn check(
     problem: &mut OutputError<'_>,
     searcher: &Searcher<'_>,
@@ -43,7 +44,8 @@ pub(super) fn check(
         if !finer && !back {
             break;
         }
-        best = searcher.refine(problem, &best.u)?;
+        let refined = searcher.refine(problem, &best.u)?;
+        best = best.then(refined);
         if !finer {
             break;
         }
@@ -94,8 +96,9 @@ fn check_steps(
         p,
         StepChoice {
             runs: held.runs + c.runs,
-            // Checked from the held steps up, the check rarely sees fewer.
-            search: c.search.or(held.search).filter(|s| s.substeps < c.substeps),
+            // What the plan and the searches took (the check starts from
+            // the held steps, so its own record is of no search).
+            search: held.search.filter(|s| s.substeps < c.substeps),
             ..c
         },
     );

@@ -38,9 +38,10 @@ pub fn plan(problem: &OutputError<'_>, settings: &Settings) -> Result<Plan, Iden
 /// bit-identical whichever subset (shard) or thread evaluates it.
 ///
 /// The points are simulated with the steps a search may take
-/// ([`crate::simulation::StepChoice::search`]), which rank them as the
-/// chosen ones do; a point those cannot simulate is evaluated again at the
-/// chosen steps, and fails only if it fails there too.
+/// ([`crate::simulation::StepChoice::search`]): their error is within 100 ×
+/// the tolerance, far below the differences in J that rank the points. A
+/// point those cannot simulate is evaluated again at the chosen steps, and
+/// fails only if it fails there too.
 pub fn evaluate_points(
     problem: &OutputError<'_>,
     plan: &Plan,
@@ -48,15 +49,15 @@ pub fn evaluate_points(
     progress: &dyn Progress,
 ) -> Result<Vec<PointOutcome>, IdentifyError> {
     let tick = || progress.plan_point();
-    let searching = problem.has_search_steps().then(|| {
+    let switched = (problem.has_search_steps() && !problem.searching()).then(|| {
         let mut p = problem.clone();
         p.use_search_steps();
         p
     });
-    let first = searching.as_ref().unwrap_or(problem);
+    let first = switched.as_ref().unwrap_or(problem);
     let mut outcomes = evaluate_indices(first, plan, indices, Some(&tick))?;
     let failed: Vec<usize> = (0..indices.len())
-        .filter(|&k| searching.is_some() && outcomes[k].is_err())
+        .filter(|&k| first.searching() && outcomes[k].is_err())
         .collect();
     if !failed.is_empty() && !problem.cancel().is_set() {
         let again: Vec<usize> = failed.iter().map(|&k| indices[k]).collect();
@@ -84,7 +85,9 @@ pub(super) struct PlanRun<'p> {
     /// The best `settings.starts` points (plan index, J), best first.
     pub starts: Vec<(usize, f64)>,
     /// The simulations the plan took: each point simulates every
-    /// experiment once; a failed point counts one failure.
+    /// experiment once; a failed point counts one failure (a point that
+    /// the searches' fewer steps could not simulate, evaluated again at the
+    /// chosen ones, counts once).
     pub tally: Tally,
 }
 
