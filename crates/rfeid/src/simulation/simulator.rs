@@ -87,11 +87,17 @@ impl<'m> Simulator<'m> {
 
     /// Takes the steps a search may take ([`StepChoice::search`]) from now
     /// on, if there are fewer such steps; [`Simulator::steps`] still
-    /// records the choice, and [`Simulator::set_steps`] goes back to it.
+    /// records the choice, and [`Simulator::use_chosen_steps`] goes back to
+    /// it.
     pub fn use_search_steps(&mut self) {
         if let Some(s) = self.steps.search {
             self.integrator.substeps = s.substeps.max(1);
         }
+    }
+
+    /// Takes the chosen steps ([`Simulator::steps`]) from now on.
+    pub fn use_chosen_steps(&mut self) {
+        self.integrator.substeps = self.steps.substeps;
     }
 
     /// Whether it takes fewer steps than [`Simulator::steps`] chose, for a

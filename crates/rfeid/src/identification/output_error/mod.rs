@@ -391,7 +391,7 @@ impl<'m> OutputError<'m> {
         part.all_params(u, &self.maps, &mut ws.params);
         let chosen = part.data.sim.searching().then(|| {
             let mut sim = part.data.sim.clone();
-            sim.set_steps(sim.steps());
+            sim.use_chosen_steps();
             sim
         });
         chosen

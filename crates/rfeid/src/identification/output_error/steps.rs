@@ -10,9 +10,16 @@ impl<'m> OutputError<'m> {
         self.parts[p].data.sim.set_steps(steps);
     }
 
+    /// Experiment p takes its chosen steps from now on.
+    pub fn use_chosen_steps(&mut self, p: usize) {
+        self.parts[p].data.sim.use_chosen_steps();
+    }
+
     /// Every experiment takes the steps a search may take from now on
     /// ([`Simulator::use_search_steps`]); [`OutputError::set_experiment_steps`]
     /// or [`OutputError::at_chosen_steps`] go back to the chosen ones.
+    ///
+    /// [`Simulator::use_search_steps`]: crate::simulation::Simulator::use_search_steps
     pub fn use_search_steps(&mut self) {
         for part in &mut self.parts {
             part.data.sim.use_search_steps();
@@ -20,7 +27,7 @@ impl<'m> OutputError<'m> {
     }
 
     /// Whether an experiment takes fewer steps than were chosen for it
-    /// ([`Simulator::searching`]).
+    /// ([`crate::simulation::Simulator::searching`]).
     pub fn searching(&self) -> bool {
         self.parts.iter().any(|p| p.data.sim.searching())
     }
@@ -38,8 +45,7 @@ impl<'m> OutputError<'m> {
     pub fn at_chosen_steps(&self) -> OutputError<'m> {
         let mut chosen = self.clone();
         for part in &mut chosen.parts {
-            let steps = part.data.sim.steps();
-            part.data.sim.set_steps(steps);
+            part.data.sim.use_chosen_steps();
         }
         chosen
     }

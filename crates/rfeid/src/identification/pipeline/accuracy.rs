@@ -35,8 +35,7 @@ pub(super) fn check(
                 Ok(Checked::Held(w)) => warnings.extend(w),
                 Err(e) => {
                     warnings.push(Warning::StepsUnchecked(e));
-                    let chosen = problem.experiment_simulator(p).steps();
-                    problem.set_experiment_steps(p, chosen);
+                    problem.use_chosen_steps(p);
                 }
             }
             back |= problem.experiment_simulator(p).integrator().substeps != ran;

@@ -45,7 +45,7 @@ pub(super) fn at(
     let mut ws = problem.workspace();
     let mut res = vec![0.0; n];
     let dx_du = problem.dx_du(u);
-    if let Some(l) = linearised.filter(|_| !problem.jacobian_by_blocks()) {
+    if let Some(l) = linearised {
         let same = problem.residuals(&mut ws, u, &mut res).is_ok()
             && res
                 .iter()
