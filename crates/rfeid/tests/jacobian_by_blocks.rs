@@ -7,6 +7,7 @@
 use nalgebra::DMatrix;
 use rfeid::identification::blocked_qr::BlockedQr;
 use rfeid::identification::lm::{LevenbergMarquardt, LmSettings};
+use rfeid::identification::noise::Whitener;
 use rfeid::identification::output_error::{ExperimentData, OutputError};
 use rfeid::identification::pipeline::{identify, Settings, Silent};
 use rfeid::identification::problem::LeastSquares;
@@ -77,7 +78,11 @@ fn compare(problem: &OutputError<'_>, u: &[f64]) {
 fn factor_by_blocks_is_the_whole_jacobians() {
     let m = knee_column(0.3);
     let mut problem = OutputError::new(Simulator::new(&m), noisy(&m, 1), 137);
-    problem.set_whitening(&[vec![-0.9, 0.3, -0.05], vec![], vec![0.5, 0.2, 0.1]]);
+    problem.set_whitening(&[
+        Whitener::new(&[-0.9, 0.3, -0.05]),
+        Whitener::NONE,
+        Whitener::new(&[0.5, 0.2, 0.1]),
+    ]);
     let u: Vec<f64> = (0..problem.n_params())
         .map(|j| 0.3 + 0.4 * j as f64 / 15.0)
         .collect();
@@ -105,7 +110,15 @@ fn a_campaigns_experiments_share_one_factor() {
     ];
     let mut problem = OutputError::campaign(experiments);
     problem.set_block_samples(333);
-    problem.set_whitening(&[vec![], vec![], vec![], vec![-0.5, 0.1], vec![], vec![0.3]]);
+    let none = Whitener::NONE;
+    problem.set_whitening(&[
+        none.clone(),
+        none.clone(),
+        none.clone(),
+        Whitener::new(&[-0.5, 0.1]),
+        none,
+        Whitener::new(&[0.3]),
+    ]);
     compare(&problem, &vec![0.5; problem.n_params()]);
 }
 

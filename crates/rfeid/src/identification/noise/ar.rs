@@ -18,6 +18,12 @@ pub struct ArModel {
     pub coefficients: Vec<f64>,
     /// σ², the variance of the innovations ε (per sample).
     pub innovation_variance: f64,
+    /// κ_1 … κ_p, the reflection (partial autocorrelation) coefficients
+    /// whose Levinson recursion builds the filter: the orders below p
+    /// predict the record's first samples ([`Whitener`]). Empty when the
+    /// model was given by its coefficients alone.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reflection: Vec<f64>,
 }
 
 impl ArModel {
@@ -26,6 +32,7 @@ impl ArModel {
         ArModel {
             coefficients: Vec::new(),
             innovation_variance: variance,
+            reflection: Vec::new(),
         }
     }
 
@@ -56,6 +63,7 @@ impl ArModel {
         // Forward and backward prediction errors of the current order.
         let (mut f, mut b) = (e.to_vec(), e.to_vec());
         let mut a: Vec<f64> = Vec::with_capacity(max_order);
+        let mut reflection: Vec<f64> = Vec::with_capacity(max_order);
         for p in 1..=max_order {
             let (mut num, mut den) = (0.0, 0.0);
             for i in p..n {
@@ -73,6 +81,7 @@ impl ArModel {
                 a[i] += k * previous[previous.len() - 1 - i];
             }
             a.push(k);
+            reflection.push(k);
             for i in (p..n).rev() {
                 let (fi, bi) = (f[i], b[i - 1]);
                 f[i] = fi + k * bi;
@@ -89,6 +98,7 @@ impl ArModel {
                     ArModel {
                         coefficients: a.clone(),
                         innovation_variance: variance,
+                        reflection: reflection.clone(),
                     },
                 );
             }
@@ -96,9 +106,19 @@ impl ArModel {
         Some(best.1)
     }
 
+    /// The whitening filter of this model, with its exact start
+    /// ([`Whitener`]): from the reflection coefficients when the model has
+    /// them (Burg's fit), else from the coefficients.
+    pub fn whitener(&self) -> Whitener {
+        match self.reflection.len() == self.coefficients.len() {
+            true => Whitener::from_reflection(&self.reflection),
+            false => Whitener::new(&self.coefficients),
+        }
+    }
+
     /// Whitens `x` in place ([`Whitener`]).
     pub fn whiten(&self, x: &mut [f64]) {
-        whiten(&self.coefficients, x);
+        self.whitener().apply(x);
     }
 
     /// The model's one-sided power spectral density at `f` Hz for sampling
@@ -117,23 +137,99 @@ impl ArModel {
     }
 }
 
-/// The whitening of a record by an autoregressive model: sample k ≥ p is
-/// filtered by `A(q)`, sample k < p, which has only k samples before it, by
-/// `A(q)` truncated at the record's start. (An exact start, the
-/// lower-order predictors of the same process by the Levinson recursion run
-/// backwards, is ill-conditioned for reflection coefficients near ±1; the
-/// truncated start costs a few rows of larger variance.)
+/// The whitening of a record by an autoregressive model, with the exact
+/// start of the stationary process's Gaussian likelihood.
+///
+/// Sample k ≥ p is filtered by `A(q)`: `ε_k = x_k + Σ_{i=1}^{p} a_i x_{k−i}`,
+/// of variance σ² = σ_p². Sample k < p has only k samples before it; its
+/// innovation is the error of the best linear predictor of order k of the
+/// same stationary process, `x_k + Σ_{i=1}^{k} a^{(k)}_i x_{k−i}`, of
+/// variance σ_k² = σ_p² / Π_{j=k+1}^{p} (1 − κ_j²), and is scaled by
+/// σ_p / σ_k. Every row then has the innovation variance σ², and the rows
+/// are independent: `Σ ε_k²` is the exact Gaussian log-likelihood of the
+/// whole record under the model, up to its determinant (fixed while the
+/// noise model is), i.e. `L⁻¹ x` for L the Cholesky factor of the
+/// stationary Toeplitz covariance over σ² (the innovations algorithm).
+/// The predictors a^{(k)} and variances come from the reflection
+/// coefficients κ_j by the Levinson recursion, which is stable for
+/// |κ_j| < 1 however close to 1, so nothing is inverted.
+///
+/// A filter given by its coefficients alone gets its reflection
+/// coefficients by the step-down recursion ([`Whitener::new`]); one that
+/// is not stationary (some |κ_j| ≥ 1) has no stationary start and is
+/// truncated at the record's start instead (A(q)'s first k coefficients at
+/// sample k, unscaled).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Whitener {
+    /// a_1 … a_p.
     coefficients: Vec<f64>,
+    /// The start's predictors, row k (0 < k < p) holding a^{(k)}_1 …
+    /// a^{(k)}_k from index k (k − 1) / 2 on.
+    start: Vec<f64>,
+    /// σ_p / σ_k for k = 0 … p − 1.
+    gains: Vec<f64>,
 }
 
 impl Whitener {
+    /// No filter (white noise).
+    pub const NONE: Whitener = Whitener {
+        coefficients: Vec::new(),
+        start: Vec::new(),
+        gains: Vec::new(),
+    };
+
     /// The whitener of the model with coefficients `a` (a_1 … a_p; empty:
-    /// none).
+    /// none), its reflection coefficients found by the step-down
+    /// (backward Levinson) recursion.
     pub fn new(a: &[f64]) -> Self {
+        match step_down(a) {
+            Some(kappa) => Self::from_reflection(&kappa),
+            None => Self::truncated(a),
+        }
+    }
+
+    /// The whitener of the stationary model with reflection coefficients
+    /// κ_1 … κ_p (each |κ| < 1), by the Levinson recursion
+    /// `a^{(m)}_i = a^{(m−1)}_i + κ_m a^{(m−1)}_{m−i}`, `a^{(m)}_m = κ_m`.
+    pub fn from_reflection(kappa: &[f64]) -> Self {
+        let p = kappa.len();
+        let mut start = Vec::with_capacity(p * p.saturating_sub(1) / 2);
+        let mut a: Vec<f64> = Vec::with_capacity(p);
+        let mut previous = Vec::with_capacity(p);
+        for (m, &k) in kappa.iter().enumerate() {
+            start.extend_from_slice(&a);
+            previous.clone_from(&a);
+            for i in 0..m {
+                a[i] += k * previous[m - 1 - i];
+            }
+            a.push(k);
+        }
+        // σ_p² / σ_k² = Π_{j>k} (1 − κ_j²), as a running product from the end.
+        let mut gains = vec![1.0; p];
+        let mut ratio = 1.0;
+        for k in (0..p).rev() {
+            ratio *= 1.0 - kappa[k] * kappa[k];
+            gains[k] = ratio.sqrt();
+        }
+        Whitener {
+            coefficients: a,
+            start,
+            gains,
+        }
+    }
+
+    /// The filter truncated at the record's start: sample k < p filtered
+    /// by a_1 … a_k of `a`, unscaled.
+    fn truncated(a: &[f64]) -> Self {
+        let p = a.len();
+        let mut start = Vec::with_capacity(p * p.saturating_sub(1) / 2);
+        for k in 1..p {
+            start.extend_from_slice(&a[..k]);
+        }
         Whitener {
             coefficients: a.to_vec(),
+            start,
+            gains: vec![1.0; p],
         }
     }
 
@@ -142,23 +238,41 @@ impl Whitener {
         &self.coefficients
     }
 
-    /// Whitens `x` in place, from the end backwards so that every sample
-    /// read is still the input. Does not allocate.
+    /// The order p (0: no filter).
+    pub fn order(&self) -> usize {
+        self.coefficients.len()
+    }
+
+    /// Whitens `x`, the record from its first sample on, in place, from
+    /// the end backwards so that every sample read is still the input.
+    /// Does not allocate.
     pub fn apply(&self, x: &mut [f64]) {
-        for k in (1..x.len()).rev() {
+        let p = self.coefficients.len();
+        if p == 0 {
+            return;
+        }
+        for k in (p..x.len()).rev() {
             let mut acc = x[k];
-            for (i, ai) in self.coefficients.iter().enumerate().take(k) {
+            for (i, ai) in self.coefficients.iter().enumerate() {
                 acc += ai * x[k - 1 - i];
             }
             x[k] = acc;
         }
+        for k in (0..p.min(x.len())).rev() {
+            let row = &self.start[k * k.saturating_sub(1) / 2..][..k];
+            let mut acc = x[k];
+            for (i, ai) in row.iter().enumerate() {
+                acc += ai * x[k - 1 - i];
+            }
+            x[k] = self.gains[k] * acc;
+        }
     }
 
     /// Whitens `values`, the next samples of a record whose samples before
-    /// them are `past` (unfiltered, at most the filter's order p), as
-    /// [`Whitener::apply`] does them in the whole record, bit for bit; then
-    /// keeps the last p unfiltered samples in `past` for the next call.
-    /// `line` is scratch.
+    /// them are `past` (unfiltered, at most the filter's order p: all of
+    /// them while the record has fewer), as [`Whitener::apply`] does them
+    /// in the whole record, bit for bit; then keeps the last p unfiltered
+    /// samples in `past` for the next call. `line` is scratch.
     pub fn apply_after(&self, past: &mut Vec<f64>, values: &mut [f64], line: &mut Vec<f64>) {
         line.clear();
         line.extend_from_slice(past);
@@ -172,19 +286,37 @@ impl Whitener {
     }
 }
 
-/// Σ (A(q) e)² for the coefficients `a` (a_1 … a_p): the sum of squares of
-/// what the filter leaves of `e`.
-pub(crate) fn whitened_ssr(a: &[f64], e: &[f64]) -> f64 {
-    let mut w = e.to_vec();
-    whiten(a, &mut w);
-    w.iter().map(|v| v * v).sum()
+/// κ_1 … κ_p of the filter a_1 … a_p by the step-down recursion
+/// `a^{(m−1)}_i = (a^{(m)}_i − κ_m a^{(m)}_{m−i}) / (1 − κ_m²)`,
+/// `κ_m = a^{(m)}_m`; `None` when the filter is not that of a stationary
+/// process (some |κ_m| ≥ 1, or a value not finite).
+fn step_down(a: &[f64]) -> Option<Vec<f64>> {
+    let p = a.len();
+    let mut kappa = vec![0.0; p];
+    let mut cur = a.to_vec();
+    for m in (1..=p).rev() {
+        let k = cur[m - 1];
+        if !(k.abs() < 1.0) {
+            return None;
+        }
+        kappa[m - 1] = k;
+        let d = 1.0 - k * k;
+        let next: Vec<f64> = (0..m - 1)
+            .map(|i| (cur[i] - k * cur[m - 2 - i]) / d)
+            .collect();
+        if next.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        cur = next;
+    }
+    Some(kappa)
 }
 
-/// [`Whitener`] of the coefficients `a` (a_1 … a_p) applied to `x`.
-pub(crate) fn whiten(a: &[f64], x: &mut [f64]) {
-    if !a.is_empty() {
-        Whitener::new(a).apply(x);
-    }
+/// Σ ε² of what `filter` leaves of `e`.
+pub(crate) fn whitened_ssr(filter: &Whitener, e: &[f64]) -> f64 {
+    let mut w = e.to_vec();
+    filter.apply(&mut w);
+    w.iter().map(|v| v * v).sum()
 }
 
 #[cfg(test)]
@@ -227,6 +359,7 @@ mod tests {
         ArModel {
             coefficients: vec![-1.6, 0.8],
             innovation_variance: 1.0,
+            reflection: vec![],
         }
         .whiten(&mut w);
         for (a, b) in w.iter().zip(&eps).skip(2) {
@@ -262,10 +395,90 @@ mod tests {
     }
 
     #[test]
-    fn the_start_is_filtered_by_the_truncated_filter() {
+    fn a_filter_that_is_not_stationary_is_truncated_at_the_start() {
+        // A(z) = 1 − 2.5 z⁻¹ + z⁻²: a root at z = 2, no stationary process.
         let mut x = vec![2.0, 3.0, 5.0];
-        Whitener::new(&[-0.9, 0.2]).apply(&mut x);
-        assert_eq!(x, vec![2.0, 3.0 - 0.9 * 2.0, 5.0 - 0.9 * 3.0 + 0.2 * 2.0]);
+        Whitener::new(&[-2.5, 1.0]).apply(&mut x);
+        assert_eq!(x, vec![2.0, 3.0 - 2.5 * 2.0, 5.0 - 2.5 * 3.0 + 2.0]);
+    }
+
+    #[test]
+    fn the_start_of_an_ar1_is_scaled_by_its_stationary_variance() {
+        // e_k = 0.9 e_{k−1} + ε_k: Var e = σ² / (1 − 0.81), so the first
+        // row is e_0 √(1 − 0.81); the others are e_k − 0.9 e_{k−1}.
+        let mut x = vec![2.0, 3.0, 5.0];
+        Whitener::new(&[-0.9]).apply(&mut x);
+        let expected = [2.0 * 0.19f64.sqrt(), 3.0 - 0.9 * 2.0, 5.0 - 0.9 * 3.0];
+        for (a, b) in x.iter().zip(&expected) {
+            assert!((a - b).abs() < 1e-15, "{x:?}");
+        }
+    }
+
+    #[test]
+    fn step_down_inverts_the_levinson_recursion() {
+        let kappa = [0.95, -0.7, 0.3, -0.999];
+        let w = Whitener::from_reflection(&kappa);
+        let back = step_down(w.coefficients()).unwrap();
+        for (a, b) in back.iter().zip(&kappa) {
+            assert!((a - b).abs() < 1e-9, "{back:?}");
+        }
+        let v = Whitener::new(w.coefficients());
+        for (a, b) in v.gains.iter().zip(&w.gains) {
+            assert!(
+                (a - b).abs() < 1e-9 * b.max(1e-3),
+                "{:?} {:?}",
+                v.gains,
+                w.gains
+            );
+        }
+        for (a, b) in v.start.iter().zip(&w.start) {
+            assert!((a - b).abs() < 1e-9, "{:?} {:?}", v.start, w.start);
+        }
+    }
+
+    #[test]
+    fn every_whitened_row_has_the_innovation_variance() {
+        // A stationary AR(2) with poles at radius 0.98 (e^{±0.3i}): over
+        // 8000 records of 500 samples, each whitened at its exact start,
+        // every row's variance is within 10 % of σ² = 1. (A row's variance
+        // over R records has a standard deviation of √(2/R): 1.6 % here, so
+        // the largest of 500 is far inside 10 %; over 2000 records it
+        // would be about 10 % by chance alone.) The truncated start leaves
+        // the first rows at many times σ².
+        let (r, theta) = (0.98f64, 0.3f64);
+        let a = [-2.0 * r * theta.cos(), r * r];
+        let exact = Whitener::new(&a);
+        let truncated = Whitener::truncated(&a);
+        let (n, records) = (500, 8000);
+        let (mut var, mut var_truncated) = (vec![0.0; n], vec![0.0; n]);
+        let mut rng = ChaCha8Rng::seed_from_u64(42);
+        for _ in 0..records {
+            // A burn-in of 3000 samples: 0.98³⁰⁰⁰ of the start is left.
+            let (mut e1, mut e2) = (0.0, 0.0);
+            let mut record = Vec::with_capacity(n);
+            for k in 0..3000 + n {
+                let eps: f64 = StandardNormal.sample(&mut rng);
+                let e = -a[0] * e1 - a[1] * e2 + eps;
+                (e2, e1) = (e1, e);
+                if k >= 3000 {
+                    record.push(e);
+                }
+            }
+            let mut t = record.clone();
+            exact.apply(&mut record);
+            truncated.apply(&mut t);
+            for k in 0..n {
+                var[k] += record[k] * record[k] / records as f64;
+                var_truncated[k] += t[k] * t[k] / records as f64;
+            }
+        }
+        let worst = var.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
+        assert!(
+            worst < 0.1,
+            "worst row variance off by {worst}: {:?}",
+            &var[..4]
+        );
+        assert!(var_truncated[0] > 20.0, "{:?}", &var_truncated[..4]);
     }
 
     #[test]
@@ -274,6 +487,7 @@ mod tests {
         let m = ArModel {
             coefficients: vec![-0.9],
             innovation_variance: 1.0,
+            reflection: vec![],
         };
         let fs = 1000.0;
         let n = 200_000;

@@ -13,7 +13,7 @@
 //! verdict checks what the noise model leaves.
 pub mod ar;
 
-pub use self::ar::ArModel;
+pub use self::ar::{ArModel, Whitener};
 use serde::{Deserialize, Serialize};
 
 /// Highest autoregressive order tried by default (and never more than a
@@ -58,10 +58,11 @@ impl NoiseModel {
         }
     }
 
-    /// The whitening filter a_1 … a_p of the model of `e` ([`Self::fit`]);
-    /// empty for white noise, or when `e` has no model.
-    pub fn filter(&self, e: &[f64]) -> Vec<f64> {
-        self.fit(e).map(|m| m.coefficients).unwrap_or_default()
+    /// The whitening filter of the model of `e` ([`Self::fit`]), with its
+    /// exact start; none (order 0) for white noise, or when `e` has no
+    /// model.
+    pub fn filter(&self, e: &[f64]) -> Whitener {
+        self.fit(e).map(|m| m.whitener()).unwrap_or_default()
     }
 }
 
@@ -83,13 +84,13 @@ pub struct SensorNoise {
 
 impl SensorNoise {
     /// The noise model of sensor `sensor` whose residuals are `e` and whose
-    /// whitening filter is `filter` (a_1 … a_p).
-    pub fn of(sensor: String, e: &[f64], filter: &[f64]) -> Self {
+    /// whitening filter is `filter`.
+    pub fn of(sensor: String, e: &[f64], filter: &Whitener) -> Self {
         let n = e.len().max(1) as f64;
         SensorNoise {
             sensor,
-            order: filter.len(),
-            coefficients: filter.to_vec(),
+            order: filter.order(),
+            coefficients: filter.coefficients().to_vec(),
             innovation_std: (ar::whitened_ssr(filter, e) / n).sqrt(),
             residual_std: (e.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
         }
@@ -100,6 +101,7 @@ impl SensorNoise {
         ArModel {
             coefficients: self.coefficients.clone(),
             innovation_variance: self.innovation_std * self.innovation_std,
+            reflection: Vec::new(),
         }
     }
 }

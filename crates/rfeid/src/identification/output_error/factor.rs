@@ -144,7 +144,7 @@ impl Rows {
                 }
             }
             let filter = &part.whitening[c];
-            if filter.coefficients().is_empty() {
+            if filter.order() == 0 {
                 continue;
             }
             let rows = &mut self.res[c * m..(c + 1) * m];

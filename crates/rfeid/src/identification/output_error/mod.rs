@@ -281,29 +281,28 @@ impl<'m> OutputError<'m> {
             .collect()
     }
 
-    /// Sets each sensor's whitening filter a_1 … a_p (empty: none), in
+    /// Sets each sensor's whitening filter (order 0: none), in
     /// [`OutputError::weights`]' order: the residuals and the Jacobian rows
-    /// of that sensor are filtered by `A(q)` ([`crate::identification::noise`]).
-    pub fn set_whitening(&mut self, filters: &[Vec<f64>]) {
+    /// of that sensor are filtered by `A(q)` with its exact start
+    /// ([`crate::identification::noise`]).
+    pub fn set_whitening(&mut self, filters: &[Whitener]) {
         let mut f = filters.iter();
         for part in &mut self.parts {
             for w in &mut part.whitening {
-                *w = Whitener::new(f.next().expect("one filter per sensor"));
+                *w = f.next().expect("one filter per sensor").clone();
             }
         }
     }
 
     /// Each sensor's whitening filter, in [`OutputError::weights`]' order.
-    pub fn whitening(&self) -> Vec<Vec<f64>> {
-        self.whitening_filters().map(<[f64]>::to_vec).collect()
+    pub fn whitening(&self) -> Vec<Whitener> {
+        self.whitening_filters().cloned().collect()
     }
 
     /// Each sensor's whitening filter, borrowed, in
     /// [`OutputError::weights`]' order.
-    pub fn whitening_filters(&self) -> impl Iterator<Item = &[f64]> + '_ {
-        self.parts
-            .iter()
-            .flat_map(|p| p.whitening.iter().map(Whitener::coefficients))
+    pub fn whitening_filters(&self) -> impl Iterator<Item = &Whitener> + '_ {
+        self.parts.iter().flat_map(|p| p.whitening.iter())
     }
 
     /// Samples used per sensor, in [`OutputError::weights`]' order.

@@ -168,7 +168,7 @@ impl Part<'_> {
             }
             // The same fixed filter as the residuals': the filtered
             // Jacobian is the Jacobian of the filtered residuals.
-            if !self.whitening[c].coefficients().is_empty() {
+            if self.whitening[c].order() > 0 {
                 let (n_rows, start) = (jac.nrows(), row0 + c * used);
                 for &col in &self.cols {
                     let column = &mut jac.as_mut_slice()[col * n_rows..(col + 1) * n_rows];

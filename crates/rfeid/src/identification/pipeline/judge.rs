@@ -1,7 +1,10 @@
 //! Stage 7, the verdict: the fit at the estimate, every sensor's signals,
 //! and the checks of [`crate::identification::verdict`].
 use super::bounds::Bounds;
-use crate::identification::noise::NoiseModel;
+use crate::identification::noise::{NoiseModel, Whitener};
+
+/// No whitening (white noise).
+static NO_FILTER: Whitener = Whitener::NONE;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::LeastSquares;
 use crate::identification::search::SearchOutcome;
@@ -28,7 +31,7 @@ pub(super) fn fit_passes(
         return false;
     };
     let mut signals = fit_signals(problem, Some(&fitted));
-    let filters: Vec<Vec<f64>> = signals
+    let filters: Vec<Whitener> = signals
         .iter()
         .map(|sig| own_filter(sig, s, noise_model))
         .collect();
@@ -40,9 +43,9 @@ pub(super) fn fit_passes(
 
 /// The whitening filter of a noise model of kind `noise_model` fitted to
 /// the residuals of `sig` (none for white noise, or a sensor fitted exactly).
-fn own_filter(sig: &FitSignal<'_>, s: &VerdictSettings, noise_model: NoiseModel) -> Vec<f64> {
+fn own_filter(sig: &FitSignal<'_>, s: &VerdictSettings, noise_model: NoiseModel) -> Whitener {
     if fitted_exactly(sig, s) {
-        return Vec::new();
+        return Whitener::default();
     }
     noise_model.filter(&sig.residuals())
 }
@@ -65,7 +68,7 @@ pub(super) fn fit_signals<'a>(
                 sensor: ColumnName::new(&s.name, problem.experiment_name(p)).to_string(),
                 measured: &y.sensor(c)[first..],
                 fitted: fitted.map_or(&[][..], |g| &g[p].sensor(c)[first..]),
-                whitening: filters.next().unwrap_or(&[]),
+                whitening: filters.next().unwrap_or(&NO_FILTER),
                 inputs: problem.experiment_inputs(p),
                 sample_rate: model.sampling.sample_rate,
             });

@@ -11,7 +11,7 @@ use super::searcher::Searcher;
 use super::settings::{Start, Weighting};
 use super::starts::Ends;
 use crate::identification::noise::ar::whitened_ssr;
-use crate::identification::noise::NoiseModel;
+use crate::identification::noise::{NoiseModel, Whitener};
 use crate::identification::output_error::OutputError;
 use crate::identification::search::SearchOutcome;
 use crate::identification::verdict::{fitted_exactly, VerdictSettings};
@@ -124,7 +124,7 @@ fn exact_sensors(problem: &OutputError<'_>, fitted: &[Response], s: &VerdictSett
 /// problem holds, for [`Update::changes`].
 struct Update {
     weights: Vec<f64>,
-    filters: Vec<Vec<f64>>,
+    filters: Vec<Whitener>,
     ssr_new: Vec<f64>,
     ssr_held: Vec<f64>,
 }
@@ -146,7 +146,7 @@ impl Update {
         for (sig, &exact) in signals.iter().zip(exact) {
             if exact {
                 // Rounding, not noise: no filter, and the largest weight.
-                u.filters.push(Vec::new());
+                u.filters.push(Whitener::default());
                 u.ssr_new.push(0.0);
                 u.ssr_held.push(0.0);
                 continue;

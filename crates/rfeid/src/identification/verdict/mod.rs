@@ -76,6 +76,7 @@ pub use self::residuals::{ljung_box, noise_ratio};
 pub use self::settings::VerdictSettings;
 
 use self::residuals::check_sensors;
+use crate::identification::noise::ar::Whitener;
 use crate::identification::termination::StopReason;
 use crate::identification::uncertainty::IdentifiabilityWarning;
 use serde::{Deserialize, Serialize};
@@ -180,9 +181,9 @@ pub struct FitSignal<'a> {
     pub measured: &'a [f64],
     /// Simulated at the estimate, the same samples.
     pub fitted: &'a [f64],
-    /// The whitening filter a_1 … a_p of the sensor's noise model (empty:
-    /// white noise): the residual tests apply to what it leaves.
-    pub whitening: &'a [f64],
+    /// The whitening filter of the sensor's noise model (order 0: white
+    /// noise): the residual tests apply to what it leaves.
+    pub whitening: &'a Whitener,
     /// The experiment's inputs (each excitation's force) at the same
     /// samples, for the residual–input test (empty: not tested).
     pub inputs: &'a [Vec<f64>],

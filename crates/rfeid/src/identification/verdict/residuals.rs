@@ -5,7 +5,6 @@ use super::reason::{Reason, SensorCheck};
 use super::settings::VerdictSettings;
 use super::FitSignal;
 use crate::identification::chi_square::chi_square_sf;
-use crate::identification::noise::ar::whiten;
 use crate::measurement::spectrum::welch;
 use crate::measurement::{misfit_and_spread, percent_fit};
 
@@ -74,7 +73,7 @@ fn check_sensor(
     if misfit > s.exact_fit * spread {
         residual.clear();
         residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
-        whiten(sig.whitening, residual);
+        sig.whitening.apply(residual);
         residual_tests(sig, residual, s, &mut check, reasons);
     }
     if reasons.len() > before && sig.sample_rate > 0.0 {
