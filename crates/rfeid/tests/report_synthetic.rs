@@ -241,9 +241,12 @@ fn the_heat_map_outlines_exactly_the_verdicts_pairs() {
         first_name: name(0),
         second_name: name(2),
         correlation: 0.95,
+        slope: None,
+        combination_std_error: None,
     }];
     result.verdict = Some(Verdict {
         trustworthy: false,
+        decided_by: vec!["identifiability".into()],
         reasons,
         minima: Vec::new(),
         minima_threshold: 0.0,

@@ -24,6 +24,7 @@ pub fn write_verdict(out: &mut String, r: &IdentificationResult) {
     for reason in &v.reasons {
         let _ = writeln!(out, "  - {reason}");
     }
+    let _ = writeln!(out, "decided by: {}", v.decided_by.join(", "));
     let model_error = v
         .reasons
         .iter()

@@ -131,13 +131,47 @@ fn verdict(out: &mut String, r: &IdentificationResult) {
             for reason in &v.reasons {
                 let _ = writeln!(out, "<li>{}</li>", escape(&reason.to_string()));
             }
-            out.push_str("</ul></div>\n");
+            let _ = writeln!(
+                out,
+                "</ul>Decided by: {}.</div>",
+                escape(&v.decided_by.join(", "))
+            );
         }
         None => out.push_str(
             "<div class=\"verdict bad\">No verdict: this result was written by an rfeid \
              that did not check it.</div>\n",
         ),
     }
+    if let Some(v) = r.verdict.as_ref().filter(|v| !v.sensors.is_empty()) {
+        sensor_checks(out, v);
+    }
+}
+
+/// Each sensor's residual checks: its fit, and the tests on what its noise
+/// model leaves of its residuals (the model's order, Ljung–Box Q and p, the
+/// noise-level ratio, the residual–input test's p).
+fn sensor_checks(out: &mut String, v: &crate::identification::verdict::Verdict) {
+    let num =
+        |x: Option<f64>, digits: usize| x.map_or("-".to_string(), |x| format!("{x:.digits$}"));
+    let p = |x: Option<f64>| x.map_or("-".to_string(), |x| format!("{x:.2e}"));
+    out.push_str(
+        "<table class=\"kv\">\n<tr><th>sensor</th><th>fit %</th><th>noise model order</th>\
+         <th>Ljung–Box Q</th><th>p</th><th>noise ratio</th><th>input p</th></tr>\n",
+    );
+    for c in &v.sensors {
+        let _ = writeln!(
+            out,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            escape(&c.sensor),
+            num(c.fit_percent, 2),
+            c.noise_order.map_or("-".to_string(), |o| o.to_string()),
+            num(c.ljung_box, 1),
+            p(c.p_value),
+            num(c.noise_ratio, 3),
+            p(c.input_p_value),
+        );
+    }
+    out.push_str("</table>\n");
 }
 
 /// The summary section: the verdict, how the local search ended, the worst

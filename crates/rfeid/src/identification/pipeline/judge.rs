@@ -15,12 +15,9 @@ use crate::model::ColumnName;
 use crate::simulation::{Response, SimulationError};
 
 /// Whether the fit at u passes the verdict's per-sensor checks (fit,
-/// whiteness, noise level, input) with each sensor's residuals whitened by
-/// a noise model fitted to them (of the kind `noise_model` says), not by
-/// the weighting the search used: coloured noise then passes with a correct
-/// model whatever the search's weighting, and the decision does not depend
-/// on prewhitening a criterion whose model may be wrong. A failed
-/// simulation does not pass.
+/// whiteness, noise level, input) on what a noise model fitted to each
+/// sensor's residuals leaves ([`own_filters`]), as the verdict judges them.
+/// A failed simulation does not pass.
 pub(super) fn fit_passes(
     problem: &OutputError<'_>,
     s: &VerdictSettings,
@@ -31,14 +28,31 @@ pub(super) fn fit_passes(
         return false;
     };
     let mut signals = fit_signals(problem, Some(&fitted));
-    let filters: Vec<Whitener> = signals
-        .iter()
-        .map(|sig| own_filter(sig, s, noise_model))
-        .collect();
+    let filters = own_filters(&signals, s, noise_model);
     for (sig, filter) in signals.iter_mut().zip(&filters) {
         sig.whitening = filter;
     }
     !fit_fails(&signals, s)
+}
+
+/// Each sensor's whitening filter for the residual checks: a noise model
+/// of kind `noise_model` fitted to its own residuals, not the weighting the
+/// search used. The checks then judge what the noise model leaves and only
+/// that, whatever the criterion was prewhitened with: coloured noise passes
+/// with a correct model even where the final fit is output error with
+/// white noise, and a check that a low-pass alone fails (the noise level
+/// against first differences, the residuals following the input) never
+/// sees unwhitened coloured residuals. With white noise models
+/// (`--noise-model white`) the residuals are judged as they are.
+fn own_filters(
+    signals: &[FitSignal<'_>],
+    s: &VerdictSettings,
+    noise_model: NoiseModel,
+) -> Vec<Whitener> {
+    signals
+        .iter()
+        .map(|sig| own_filter(sig, s, noise_model))
+        .collect()
 }
 
 /// The whitening filter of a noise model of kind `noise_model` fitted to
@@ -78,7 +92,8 @@ pub(super) fn fit_signals<'a>(
 }
 
 /// The verdict on `best`, kept `ends` and the `bounds`, from the fit
-/// `fitted` at the estimate.
+/// `fitted` at the estimate, its residual tests on what each sensor's own
+/// noise model leaves ([`own_filters`]).
 pub(super) fn verdict(
     problem: &OutputError<'_>,
     best: &SearchOutcome,
@@ -88,6 +103,19 @@ pub(super) fn verdict(
     settings: &super::Settings,
 ) -> Verdict {
     let names: Vec<String> = problem.columns().iter().map(|c| c.name.clone()).collect();
+    let mut signals = fitted
+        .as_ref()
+        .map(|g| fit_signals(problem, Some(g)))
+        .map_err(|e| e.to_string());
+    let filters = match &signals {
+        Ok(sig) => own_filters(sig, &settings.verdict, settings.noise_model),
+        Err(_) => Vec::new(),
+    };
+    if let Ok(sig) = &mut signals {
+        for (sig, filter) in sig.iter_mut().zip(&filters) {
+            sig.whitening = filter;
+        }
+    }
     assess(
         &Evidence {
             parameters: &names,
@@ -97,10 +125,7 @@ pub(super) fn verdict(
             stop: best.stop,
             iterations: best.iterations,
             termination: best.stop.to_string(),
-            signals: match fitted {
-                Ok(g) => Ok(fit_signals(problem, Some(g))),
-                Err(e) => Err(e.to_string()),
-            },
+            signals,
             identifiability: match &bounds.cramer_rao {
                 Ok(c) => Ok(&c.warnings),
                 Err(e) => Err(e.to_string()),

@@ -15,6 +15,12 @@
 //! `T = εᵀ P ε / σ̂²` (P the projection on the regressors, σ̂² = εᵀε / n)
 //! is χ² with as many degrees of freedom as the regressors have
 //! independent directions.
+//! The regression has an intercept: the residuals and every regressor are
+//! centred (their means over the samples tested removed), so an offset of
+//! the residuals (a sensor's bias, or the drift of 1/f noise over a short
+//! record) is not taken for dependence on the input through a regressor
+//! with a mean (the square of a sine has one).
+//!
 //! A noise model fitted to residuals that hold a misfit whitens it only in
 //! part, and what is left still follows the input: this test is what tells
 //! model error from coloured noise (a misfit small beside the noise can
@@ -45,7 +51,9 @@ pub struct InputRegressors<'a> {
     inputs: &'a [Vec<f64>],
     /// (input, lag, power) of each regressor.
     columns: Vec<(usize, usize, i32)>,
-    /// Each column's norm.
+    /// Each column's mean over the samples tested.
+    means: Vec<f64>,
+    /// Each centred column's norm.
     scale: Vec<f64>,
     /// The spanned directions: eigenvalue and eigenvector.
     directions: Vec<(f64, DVector<f64>)>,
@@ -74,11 +82,20 @@ impl<'a> InputRegressors<'a> {
         let mut x = InputRegressors {
             inputs,
             columns,
+            means: vec![0.0; m],
             scale: Vec::new(),
             directions: Vec::new(),
         };
-        let mut normal = DMatrix::<f64>::zeros(m, m);
         let mut row = vec![0.0; m];
+        let mut sums = vec![0.0; m];
+        for k in LAGS..n {
+            x.row(k, &mut row);
+            for (s, r) in sums.iter_mut().zip(&row) {
+                *s += r;
+            }
+        }
+        x.means = sums.iter().map(|s| s / (n - LAGS) as f64).collect();
+        let mut normal = DMatrix::<f64>::zeros(m, m);
         for k in LAGS..n {
             x.row(k, &mut row);
             for a in 0..m {
@@ -116,10 +133,11 @@ impl<'a> InputRegressors<'a> {
         self.columns.len()
     }
 
-    /// The regressors at sample k ≥ [`LAGS`], into `row`.
+    /// The regressors at sample k ≥ [`LAGS`], centred (their means are
+    /// zero until [`InputRegressors::new`] has them), into `row`.
     fn row(&self, k: usize, row: &mut [f64]) {
-        for (r, &(i, lag, power)) in row.iter_mut().zip(&self.columns) {
-            *r = self.inputs[i][k - lag].powi(power);
+        for ((r, &(i, lag, power)), mean) in row.iter_mut().zip(&self.columns).zip(&self.means) {
+            *r = self.inputs[i][k - lag].powi(power) - mean;
         }
     }
 
@@ -144,10 +162,14 @@ impl<'a> InputRegressors<'a> {
     /// record), or `None` for zero residuals.
     pub fn statistic(&self, e: &[f64]) -> Option<(f64, usize)> {
         let used = &e[LAGS.min(e.len())..];
-        let sigma2 = used.iter().map(|v| v * v).sum::<f64>() / used.len().max(1) as f64;
+        let mean = used.iter().sum::<f64>() / used.len().max(1) as f64;
+        let sigma2 =
+            used.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / used.len().max(1) as f64;
         if !(sigma2 > 0.0) {
             return None;
         }
+        // The regressors are centred, so Xᵀ(e − ē) = Xᵀe: the projections
+        // need not centre e.
         let t: f64 = self
             .projections(e)
             .iter()
@@ -184,9 +206,9 @@ mod tests {
         let mut p_values = Vec::new();
         for seed in 0..20 {
             let (t, rank) = input_statistic(&noise(n, seed), std::slice::from_ref(&u)).unwrap();
-            // sin and cos; their squares' constant and second harmonic; the
-            // cubes' third harmonic.
-            assert_eq!(rank, 7);
+            // sin and cos; their squares' second harmonic (their constant
+            // is the intercept's); the cubes' third harmonic.
+            assert_eq!(rank, 6);
             p_values.push(chi_square_sf(t, rank));
         }
         // Independent noise: p uniform; none of 20 below 1e-3 but by chance.
@@ -223,6 +245,22 @@ mod tests {
             .collect();
         let (t, rank) = input_statistic(&e, &[u]).unwrap();
         assert!(chi_square_sf(t, rank) < 1e-6, "T = {t} on {rank}");
+    }
+
+    #[test]
+    fn an_offset_of_the_residuals_is_not_the_input() {
+        // White noise plus a constant (a sensor's bias): the square of the
+        // sine has a mean, but the offset does not follow the input.
+        let n = 5000;
+        let u = sine(n, 0.008);
+        for seed in 0..5 {
+            let e: Vec<f64> = noise(n, seed).iter().map(|w| w + 0.5).collect();
+            let (t, rank) = input_statistic(&e, std::slice::from_ref(&u)).unwrap();
+            assert!(
+                chi_square_sf(t, rank) > 1e-4,
+                "seed {seed}: T = {t} on {rank}"
+            );
+        }
     }
 
     #[test]

@@ -88,6 +88,11 @@ pub struct Verdict {
     pub trustworthy: bool,
     /// Every reason the result is suspect.
     pub reasons: Vec<Reason>,
+    /// The checks that decided the verdict: each check that gave a reason
+    /// ([`Reason::check`]), once, in the reasons' order; empty when every
+    /// check passed.
+    #[serde(default)]
+    pub decided_by: Vec<String>,
     /// The minima the starts reached, lowest J first.
     pub minima: Vec<Minimum>,
     /// J difference beyond which two ends are different minima.
@@ -261,9 +266,16 @@ pub fn assess(e: &Evidence<'_>, s: &VerdictSettings) -> Verdict {
             message: message.clone(),
         }),
     }
+    let mut decided_by: Vec<String> = Vec::new();
+    for check in reasons.iter().map(Reason::check) {
+        if !decided_by.iter().any(|c| c == check) {
+            decided_by.push(check.to_string());
+        }
+    }
     Verdict {
         trustworthy: reasons.is_empty(),
         reasons,
+        decided_by,
         minima,
         minima_threshold,
         sensors,
@@ -325,12 +337,16 @@ pub(crate) fn identifiability_reason(w: &IdentifiabilityWarning, names: &[String
             first,
             second,
             correlation,
+            slope,
+            combination_std_error,
         } => Reason::StrongCorrelation {
             first: *first,
             second: *second,
             first_name: name(*first),
             second_name: name(*second),
             correlation: *correlation,
+            slope: Some(*slope),
+            combination_std_error: Some(*combination_std_error),
         },
         IdentifiabilityWarning::StdErrorExceedsBox {
             index,

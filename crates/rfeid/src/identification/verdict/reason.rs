@@ -55,9 +55,13 @@ pub struct SensorCheck {
     /// The residuals' spectral peak and band, Hz, when a check failed.
     #[serde(default)]
     pub misfit_band: Option<[f64; 3]>,
+    /// The order of the autoregressive noise model fitted to the sensor's
+    /// residuals whose innovations the whiteness, noise-level and input
+    /// tests judged (0: the residuals as they are), when tested.
+    #[serde(default)]
+    pub noise_order: Option<usize>,
 }
 
-/// Why a result is suspect.
 /// Where a sensor's misfit lies: its fit and the band of its residuals'
 /// spectrum ([`crate::measurement::spectrum::Spectrum::peak_band`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -71,6 +75,7 @@ pub struct Misfit {
     pub band: Option<[f64; 3]>,
 }
 
+/// Why a result is suspect.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Reason {
@@ -171,6 +176,12 @@ pub enum Reason {
         second_name: String,
         /// The correlation.
         correlation: f64,
+        /// The data fix `first − slope · second` best (SI units).
+        #[serde(default)]
+        slope: Option<f64>,
+        /// That combination's standard error, in the first's SI unit.
+        #[serde(default)]
+        combination_std_error: Option<f64>,
     },
     /// A standard error exceeds the width of its box.
     PoorlyDetermined {
@@ -281,6 +292,28 @@ fn fmt_sig(v: f64) -> String {
     format!("{v:.3e}")
 }
 
+impl Reason {
+    /// The check of the verdict that gave this reason (the module
+    /// documentation of [`super`] lists them).
+    pub fn check(&self) -> &'static str {
+        match self {
+            Reason::IterationLimit { .. } | Reason::NotConverged { .. } => "convergence",
+            Reason::AtBound { .. } => "bounds",
+            Reason::DistinctMinima { .. } => "distinct minima",
+            Reason::PoorFit { .. } => "fit",
+            Reason::NotWhite { .. } => "whiteness",
+            Reason::NoiseMismatch { .. } => "noise level",
+            Reason::InputCorrelated { .. } => "residuals and input",
+            Reason::ModelError { .. } => "model error",
+            Reason::StrongCorrelation { .. }
+            | Reason::PoorlyDetermined { .. }
+            | Reason::IllConditioned { .. }
+            | Reason::NoStandardErrors { .. } => "identifiability",
+            Reason::SimulationFailed { .. } => "simulation",
+        }
+    }
+}
+
 impl fmt::Display for Reason {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -321,10 +354,21 @@ impl fmt::Display for Reason {
                 fmt_p(*p_value)
             ),
             Reason::ModelError { starts, cost, sensors } => model_error(f, *starts, *cost, sensors),
-            Reason::StrongCorrelation { first_name, second_name, correlation, .. } => write!(
-                f,
-                "{first_name} and {second_name} are correlated ({correlation:+.4}); the data determine mostly a combination of them"
-            ),
+            Reason::StrongCorrelation { first_name, second_name, correlation, slope, combination_std_error, .. } => {
+                write!(
+                    f,
+                    "{first_name} and {second_name} are correlated ({correlation:+.4}); the data determine mostly a combination of them"
+                )?;
+                match (slope, combination_std_error) {
+                    (Some(k), Some(se)) => write!(
+                        f,
+                        ": {first_name} {} {:.4} {second_name} (SI), to a standard error of {se:.3e}",
+                        if *k < 0.0 { "+" } else { "−" },
+                        k.abs()
+                    ),
+                    _ => Ok(()),
+                }
+            }
             Reason::PoorlyDetermined { parameter, std_error, box_width } => write!(
                 f,
                 "{parameter}: the standard error ({std_error:.3e}) exceeds the width of its box ({box_width:.3e}); the data hardly constrain it"

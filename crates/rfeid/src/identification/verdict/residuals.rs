@@ -69,11 +69,13 @@ fn check_sensor(
         input_statistic: None,
         input_p_value: None,
         misfit_band: None,
+        noise_order: None,
     };
     if misfit > s.exact_fit * spread {
         residual.clear();
         residual.extend(y.iter().zip(g).map(|(y, g)| y - g));
         sig.whitening.apply(residual);
+        check.noise_order = Some(sig.whitening.order());
         residual_tests(sig, residual, s, &mut check, reasons);
     }
     if reasons.len() > before && sig.sample_rate > 0.0 {
