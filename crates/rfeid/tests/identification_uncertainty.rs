@@ -108,8 +108,36 @@ fn warnings_for_collinear_pairs_and_wide_standard_errors() {
     assert!(cr.correlation[(0, 1)] < -0.99);
     assert!(cr.warnings.iter().any(|w| matches!(
         w,
-        IdentifiabilityWarning::StrongCorrelation { first: 0, second: 1, correlation } if *correlation < -0.99
+        IdentifiabilityWarning::StrongCorrelation { first: 0, second: 1, correlation, .. } if *correlation < -0.99
     )));
+    // The combination the warning names, x0 − k x1, has the least variance
+    // of all x0 − t x1 (var(t) = v00 − 2 t v01 + t² v11), and it is the one
+    // stated, far below x0's own.
+    let c = &cr.covariance;
+    let var = |t: f64| c[(0, 0)] - 2.0 * t * c[(0, 1)] + t * t * c[(1, 1)];
+    let (k, se) = cr
+        .warnings
+        .iter()
+        .find_map(|w| match w {
+            IdentifiabilityWarning::StrongCorrelation {
+                first: 0,
+                second: 1,
+                slope,
+                combination_std_error,
+                ..
+            } => Some((*slope, *combination_std_error)),
+            _ => None,
+        })
+        .unwrap();
+    assert!(
+        (var(k).sqrt() - se).abs() < 1e-9 * se,
+        "{} vs {se}",
+        var(k).sqrt()
+    );
+    for t in [0.99 * k, 1.01 * k] {
+        assert!(var(t) > var(k));
+    }
+    assert!(se < 0.2 * cr.std_errors[0]);
     assert!(cr.warnings.iter().any(|w| matches!(
         w,
         IdentifiabilityWarning::StdErrorExceedsBox { index: 2, .. }

@@ -112,6 +112,7 @@ pub fn warning_texts(columns: &[String], p: &Prediction) -> Vec<String> {
                 first,
                 second,
                 correlation,
+                ..
             } => format!(
                 "{} and {} are correlated ({correlation:+.3}): the test determines mostly a combination of them",
                 columns[*first], columns[*second]

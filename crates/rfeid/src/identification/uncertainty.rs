@@ -124,6 +124,14 @@ pub enum IdentifiabilityWarning {
         second: usize,
         /// Their correlation coefficient.
         correlation: f64,
+        /// The combination the data fix best: `x_first − slope · x_second`
+        /// with `slope = cov(first, second) / var(second)`, the regression of
+        /// the first on the second (its variance is the first's times
+        /// `1 − ρ²`).
+        slope: f64,
+        /// The standard error of that combination, in the first
+        /// parameter's unit.
+        combination_std_error: f64,
     },
     /// The column-scaled Fisher matrix is ill-conditioned.
     IllConditioned {
@@ -501,6 +509,7 @@ fn from_scaled_factor(
     let condition_number_raw = (raw.max() / raw.min()).powi(2);
     let warnings = warnings(
         &std_errors,
+        &covariance,
         &correlation,
         condition_number,
         box_widths,
@@ -540,6 +549,7 @@ fn null_space_parameters(
 
 fn warnings(
     std_errors: &[f64],
+    covariance: &DMatrix<f64>,
     correlation: &DMatrix<f64>,
     condition_number: f64,
     box_widths: Option<&[f64]>,
@@ -562,10 +572,13 @@ fn warnings(
         for second in first + 1..r {
             let correlation = correlation[(first, second)];
             if correlation.abs() > settings.correlation_threshold {
+                let var = covariance[(first, first)] * (1.0 - correlation * correlation);
                 warnings.push(IdentifiabilityWarning::StrongCorrelation {
                     first,
                     second,
                     correlation,
+                    slope: covariance[(first, second)] / covariance[(second, second)],
+                    combination_std_error: var.max(0.0).sqrt(),
                 });
             }
         }

@@ -26,6 +26,15 @@ pub enum Warning {
         /// minimum (the model's best fit).
         agreed: bool,
     },
+    /// No end passed the fit checks, and no restart ran: the bounds at the
+    /// best end show that these parameters cannot be told apart, which no
+    /// restart changes (the verdict names the combinations the data fix).
+    RidgeNotRestarted {
+        /// The lowest J the searches from the plan reached.
+        first_cost: f64,
+        /// The parameters that cannot be told apart.
+        parameters: Vec<String>,
+    },
     /// Fixed steps per sample whose estimated error at the estimate exceeds
     /// the tolerance.
     StepsTooCoarse {
@@ -92,6 +101,17 @@ impl fmt::Display for Warning {
                 "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \
                  the verdict's per-sensor checks, and {restarts} automatic restart(s) from the \
                  next-best distinct plan points found no minimum where it passes"
+            ),
+            Warning::RidgeNotRestarted {
+                first_cost,
+                parameters,
+            } => write!(
+                f,
+                "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \
+                 the verdict's per-sensor checks; no automatic restart ran, because the bounds \
+                 there show that {} cannot be told apart (a ridge of the criterion), which no \
+                 restart changes: fix one of them (--set) or add a test that separates them",
+                parameters.join(", ")
             ),
             Warning::StepsTooCoarse {
                 substeps,

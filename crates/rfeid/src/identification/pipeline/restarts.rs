@@ -6,6 +6,13 @@
 //! the lowest minimum found so far (within the verdict's minima threshold).
 //! Deterministic: the candidates follow the
 //! plan's ranking.
+//!
+//! No restart runs when the bounds at the best end already show parameters
+//! that cannot be told apart (a singular Fisher matrix, or correlations
+//! beyond the warning threshold): the searches then end on a ridge of J at
+//! points the noise picks, and no other start changes that. A warning says
+//! so first, and the verdict names the combinations the data fix.
+use super::bounds::{self, BoundsError};
 use super::judge::fit_passes;
 use super::plan::PlanRun;
 use super::searcher::Searcher;
@@ -15,6 +22,7 @@ use crate::identification::output_error::OutputError;
 use crate::identification::plan_eval::rank;
 use crate::identification::problem::LeastSquares;
 use crate::identification::result::StartFailure;
+use crate::identification::uncertainty::{IdentifiabilityWarning, UncertaintyError};
 use crate::identification::verdict::minima_threshold;
 use crate::identification::warning::Warning;
 
@@ -63,6 +71,13 @@ pub(super) fn run(
         return Judged::default();
     }
     let first_cost = lowest(ends.searches.iter().map(|e| e.cost));
+    if let Some(parameters) = ridge(problem, s, ends) {
+        ends.restart_warning = Some(Warning::RidgeNotRestarted {
+            first_cost,
+            parameters,
+        });
+        return Judged::default();
+    }
     let mut visited: Vec<Vec<f64>> = ends
         .used
         .iter()
@@ -121,6 +136,36 @@ pub(super) fn run(
     Judged {
         passed: found.then_some(passed),
     }
+}
+
+/// The parameters that cannot be told apart at the best end (by J), when
+/// its bounds show any: a singular Fisher matrix, or correlations beyond
+/// the warning threshold. Restarts cannot help there: every start ends on
+/// the same ridge, at a point the noise chooses.
+fn ridge(problem: &OutputError<'_>, s: &super::Settings, ends: &Ends) -> Option<Vec<String>> {
+    let best = ends
+        .searches
+        .iter()
+        .min_by(|a, b| a.cost.total_cmp(&b.cost))?;
+    let bounds = bounds::at(problem, &best.u, best.linearised.as_ref(), &s.uncertainty);
+    let mut involved: Vec<usize> = match bounds.cramer_rao {
+        Ok(c) => c
+            .warnings
+            .iter()
+            .flat_map(|w| match w {
+                IdentifiabilityWarning::StrongCorrelation { first, second, .. } => {
+                    vec![*first, *second]
+                }
+                _ => Vec::new(),
+            })
+            .collect(),
+        Err(BoundsError::Analysis(UncertaintyError::Singular { parameters, .. })) => parameters,
+        Err(_) => Vec::new(),
+    };
+    involved.sort_unstable();
+    involved.dedup();
+    let columns = problem.columns();
+    (!involved.is_empty()).then(|| involved.iter().map(|&j| columns[j].name.clone()).collect())
 }
 
 /// Restarts that came back to the lowest minimum so far: [`AGREEING`] of
