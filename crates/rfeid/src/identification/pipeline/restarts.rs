@@ -71,11 +71,8 @@ pub(super) fn run(
         return Judged::default();
     }
     let first_cost = lowest(ends.searches.iter().map(|e| e.cost));
-    if let Some(parameters) = ridge(problem, s, ends) {
-        ends.restart_warning = Some(Warning::RidgeNotRestarted {
-            first_cost,
-            parameters,
-        });
+    if let Some(warning) = ridge(problem, s, ends, first_cost) {
+        ends.restart_warning = Some(warning);
         return Judged::default();
     }
     let mut visited: Vec<Vec<f64>> = ends
@@ -138,11 +135,17 @@ pub(super) fn run(
     }
 }
 
-/// The parameters that cannot be told apart at the best end (by J), when
-/// its bounds show any: a singular Fisher matrix, or correlations beyond
-/// the warning threshold. Restarts cannot help there: every start ends on
-/// the same ridge, at a point the noise chooses.
-fn ridge(problem: &OutputError<'_>, s: &super::Settings, ends: &Ends) -> Option<Vec<String>> {
+/// [`Warning::RidgeNotRestarted`] naming the parameters that cannot be
+/// told apart at the best end (by J, `first_cost`), when its bounds show
+/// any: a singular Fisher matrix, or correlations beyond the warning
+/// threshold. Restarts cannot help there: every start ends on the same
+/// ridge, at a point the noise chooses.
+fn ridge(
+    problem: &OutputError<'_>,
+    s: &super::Settings,
+    ends: &Ends,
+    first_cost: f64,
+) -> Option<Warning> {
     let best = ends
         .searches
         .iter()
@@ -165,7 +168,11 @@ fn ridge(problem: &OutputError<'_>, s: &super::Settings, ends: &Ends) -> Option<
     involved.sort_unstable();
     involved.dedup();
     let columns = problem.columns();
-    (!involved.is_empty()).then(|| involved.iter().map(|&j| columns[j].name.clone()).collect())
+    let parameters = involved.iter().map(|&j| columns[j].name.clone()).collect();
+    (!involved.is_empty()).then_some(Warning::RidgeNotRestarted {
+        first_cost,
+        parameters,
+    })
 }
 
 /// Restarts that came back to the lowest minimum so far: [`AGREEING`] of
