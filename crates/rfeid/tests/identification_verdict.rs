@@ -10,7 +10,7 @@ mod common;
 use common::model;
 use rfeid::identification::lm::LmSettings;
 use rfeid::identification::output_error::OutputError;
-use rfeid::identification::pipeline::{identify, Settings, Silent};
+use rfeid::identification::pipeline::{identify, NoiseModel, Settings, Silent};
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::termination::StopReason;
 use rfeid::identification::uncertainty::UncertaintySettings;
@@ -197,8 +197,9 @@ fn a_box_that_excludes_the_truth_puts_the_estimate_on_its_bound() {
             if parameter == "k1" && *distance <= 1e-3)
     });
     assert_eq!(at_lower, 1, "k1 is on its lower bound");
-    // The misfit shows in the residuals too.
-    assert!(count(v, |r| matches!(r, Reason::NotWhite { .. })) >= 1);
+    // The misfit shows in the residuals too: what the noise model fitted
+    // to them leaves still follows the input.
+    assert!(count(v, |r| matches!(r, Reason::InputCorrelated { .. })) >= 1);
 }
 
 #[test]
@@ -206,7 +207,17 @@ fn a_wrong_fixed_parameter_leaves_residuals_that_are_not_white() {
     // The fixed guide stiffness is 30 % too high; k1, c1 and c2 cannot
     // make up for it.
     let m = model(&chain((1.0e5, 1.0e6), K1, 1.3 * K2, CHIRP));
+    // With the default noise model, what it leaves follows the input.
     let r = run(&m, data(0.01, 2), &settings(32, 1));
+    let v = verdict(&r);
+    assert!(!v.trustworthy);
+    assert!(count(v, |r| matches!(r, Reason::InputCorrelated { .. })) >= 1);
+    // With white noise models the residuals are judged as they are.
+    let white = Settings {
+        noise_model: NoiseModel::White,
+        ..settings(32, 1)
+    };
+    let r = run(&m, data(0.01, 2), &white);
     let v = verdict(&r);
     assert!(!v.trustworthy);
     assert!(

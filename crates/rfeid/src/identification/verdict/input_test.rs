@@ -106,8 +106,13 @@ impl<'a> InputRegressors<'a> {
                 }
             }
         }
+        // A constant input's regressors are the intercept's: centred, they
+        // are zero, and stay zero (a direction of eigenvalue 0, not spanned).
         x.scale = (0..m)
-            .map(|a| normal[(a, a)].sqrt().max(f64::MIN_POSITIVE))
+            .map(|a| match normal[(a, a)] > 0.0 {
+                true => normal[(a, a)].sqrt(),
+                false => 1.0,
+            })
             .collect();
         for a in 0..m {
             for b in a..m {
@@ -261,6 +266,16 @@ mod tests {
                 "seed {seed}: T = {t} on {rank}"
             );
         }
+    }
+
+    #[test]
+    fn a_constant_input_beside_a_varying_one_is_the_intercept() {
+        // An input's offset modelled as a constant force: the test runs on
+        // the varying input's directions.
+        let n = 5000;
+        let inputs = [sine(n, 0.008), vec![3.0; n]];
+        let (_, rank) = input_statistic(&noise(n, 1), &inputs).unwrap();
+        assert_eq!(rank, 6);
     }
 
     #[test]
