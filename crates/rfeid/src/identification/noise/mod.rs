@@ -106,6 +106,19 @@ impl SensorNoise {
     }
 }
 
+/// The criterion's weighting, as one value: each sensor's weight w_ec
+/// (eq. 13 with a diagonal R, eq. 14 with each sensor's own σ²) and its
+/// whitening filter (order 0: white noise), every experiment's sensors in
+/// turn. The weights stage computes it; the criterion takes it whole
+/// ([`crate::identification::output_error::OutputError::set_weighting`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SensorWeighting {
+    /// w_ec per sensor.
+    pub weights: Vec<f64>,
+    /// The whitening filter per sensor.
+    pub filters: Vec<Whitener>,
+}
+
 /// What the standard errors cover.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

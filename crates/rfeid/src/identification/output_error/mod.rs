@@ -24,6 +24,7 @@ use super::blocked_qr::{jacobian_bytes, BlockedQr};
 use super::box_map::BoxMap;
 use super::cancel::Cancel;
 use super::noise::ar::Whitener;
+use super::noise::SensorWeighting;
 use super::problem::LeastSquares;
 use super::tally::{Counter, Tally};
 use crate::simulation::{Response, SimulationError, Simulator};
@@ -259,6 +260,21 @@ impl<'m> OutputError<'m> {
     /// Experiment p's weight w_e.
     pub fn experiment_weight(&self, p: usize) -> f64 {
         self.parts[p].data.weight
+    }
+
+    /// Sets the whole weighting: each sensor's weight and whitening filter
+    /// ([`OutputError::set_weights`], [`OutputError::set_whitening`]).
+    pub fn set_weighting(&mut self, weighting: &SensorWeighting) {
+        self.set_weights(&weighting.weights);
+        self.set_whitening(&weighting.filters);
+    }
+
+    /// The whole weighting the criterion holds.
+    pub fn weighting(&self) -> SensorWeighting {
+        SensorWeighting {
+            weights: self.weights(),
+            filters: self.whitening(),
+        }
     }
 
     /// Sets the sensor weights w_ec (eq. 13 with a diagonal R), every

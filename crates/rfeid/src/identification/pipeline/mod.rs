@@ -5,14 +5,26 @@
 //!    points (possibly in shards: [`evaluate_points`]);
 //! 2. `starts`: local searches ([`crate::identification::search`]) from the
 //!    best points, on a short window of the record first;
-//! 3. `weights`: sensors weighted by their estimated noise (eq. 14);
-//! 4. `restarts`: more starts when every end fails the fit checks;
-//! 5. `accuracy`: the steps per sample checked at the estimate, and the
+//! 3. `weights`, before the restarts: only when no end passes the fit
+//!    checks, sensor weights (eq. 14, white noise models) estimated at the
+//!    best end, and the other ends searched again with them;
+//! 4. `restarts`: more starts when every end still fails the fit checks
+//!    (none on a ridge the bounds already show);
+//! 5. `weights`, final: the noise model decided at the best end (the
+//!    settings' where its fit passes the checks, else white) and the
+//!    [`SensorWeighting`](crate::identification::noise::SensorWeighting) estimated
+//!    there, which the criterion takes whole;
+//! 6. `accuracy`: the steps per sample checked at the estimate, and the
 //!    estimate refined there when the plan and the searches took fewer
 //!    (`crate::simulation::steps`, "Searches");
-//! 6. `bounds`: Cramér–Rao bounds (eq. 26–29);
-//! 7. `judge`: the verdict;
-//! 8. `assemble`: the [`IdentificationResult`].
+//! 7. `bounds`: Cramér–Rao bounds (eq. 26–29);
+//! 8. `judge`: the verdict;
+//! 9. `assemble`: the [`IdentificationResult`].
+//!
+//! Whether a fit passes the checks (stages 3–5) and what the verdict's
+//! residual tests judge (stage 8) come from one function,
+//! `judge::own_filters`: each sensor's residuals whitened by a noise model
+//! fitted to them, whatever weighting the criterion holds.
 //!
 //! Every simulation is counted where it runs, in the criterion's
 //! [`crate::identification::tally::Counter`].

@@ -174,8 +174,7 @@ fn window_problem<'m>(problem: &OutputError<'_>, short: &'m Model) -> OutputErro
         sim.use_search_steps();
     }
     let mut window = OutputError::new(sim, truncated, problem.experiment_first(0));
-    window.set_weights(&problem.weights());
-    window.set_whitening(&problem.whitening());
+    window.set_weighting(&problem.weighting());
     window.set_jacobian_memory(problem.jacobian_memory());
     window.count_into(problem);
     window

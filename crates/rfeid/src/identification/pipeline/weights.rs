@@ -11,7 +11,7 @@ use super::searcher::Searcher;
 use super::settings::{Start, Weighting};
 use super::starts::Ends;
 use crate::identification::noise::ar::whitened_ssr;
-use crate::identification::noise::{NoiseModel, Whitener};
+use crate::identification::noise::{NoiseModel, SensorWeighting, Whitener};
 use crate::identification::output_error::OutputError;
 use crate::identification::search::SearchOutcome;
 use crate::identification::verdict::{fitted_exactly, VerdictSettings};
@@ -85,8 +85,7 @@ pub(super) fn estimate(
             // reported criterion and weighting belong together.
             break;
         }
-        problem.set_weights(&update.weights);
-        problem.set_whitening(&update.filters);
+        problem.set_weighting(&update.weighting);
         best = searcher.search(problem, &best.u)?;
     }
     Ok(best)
@@ -119,12 +118,11 @@ fn exact_sensors(problem: &OutputError<'_>, fitted: &[Response], s: &VerdictSett
         .collect()
 }
 
-/// A new weighting: each sensor's filter, and its weight from the sum of
-/// squares of what the filter leaves; and that sum under the filter the
-/// problem holds, for [`Update::changes`].
+/// A new weighting, from each sensor's residuals at a fit: its filter,
+/// and its weight from the sum of squares of what the filter leaves; and
+/// that sum under the filter the problem holds, for [`Update::changes`].
 struct Update {
-    weights: Vec<f64>,
-    filters: Vec<Whitener>,
+    weighting: SensorWeighting,
     ssr_new: Vec<f64>,
     ssr_held: Vec<f64>,
 }
@@ -136,35 +134,36 @@ impl Update {
         exact: &[bool],
         model: NoiseModel,
     ) -> Self {
-        let mut u = Update {
-            weights: Vec::new(),
-            filters: Vec::new(),
-            ssr_new: Vec::new(),
-            ssr_held: Vec::new(),
-        };
+        let mut filters = Vec::new();
+        let (mut ssr_new, mut ssr_held) = (Vec::new(), Vec::new());
         let signals = fit_signals(problem, Some(fitted));
         for (sig, &exact) in signals.iter().zip(exact) {
             if exact {
                 // Rounding, not noise: no filter, and the largest weight.
-                u.filters.push(Whitener::default());
-                u.ssr_new.push(0.0);
-                u.ssr_held.push(0.0);
+                filters.push(Whitener::default());
+                ssr_new.push(0.0);
+                ssr_held.push(0.0);
                 continue;
             }
             let e = sig.residuals();
             let filter = model.filter(&e);
-            u.ssr_held.push(whitened_ssr(sig.whitening, &e));
-            u.ssr_new.push(whitened_ssr(&filter, &e));
-            u.filters.push(filter);
+            ssr_held.push(whitened_ssr(sig.whitening, &e));
+            ssr_new.push(whitened_ssr(&filter, &e));
+            filters.push(filter);
         }
-        u.weights = noise_weights(&u.ssr_new, &problem.weight_samples());
-        u
+        let weights = noise_weights(&ssr_new, &problem.weight_samples());
+        Update {
+            weighting: SensorWeighting { weights, filters },
+            ssr_new,
+            ssr_held,
+        }
     }
 
     /// Whether the new weighting moves any sensor's weight, or the sum of
     /// squares its filter leaves, by 1 % or more.
     fn changes(&self, problem: &OutputError<'_>) -> bool {
         let weight = self
+            .weighting
             .weights
             .iter()
             .zip(problem.weights())
