@@ -66,7 +66,7 @@ separate value that starts with "-" for an option). --keep DIR keeps the clean a
 there (otherwise a temporary directory is removed at the end).
 
 Example:
-  /tmp/rv/bin/python tools/rig_noise.py --rfeid /tmp/rfeid-base \\
+  python3 tools/rig_noise.py --rfeid target/release/rfeid \\
       --model examples/knee-column/model.toml --filter butter:1000 white --hum 0.15
 """
 import argparse
