@@ -1,4 +1,4 @@
-//! Stage 5, the accuracy at the estimate: the steps per sample were chosen
+//! Stage 6, the accuracy at the estimate: the steps per sample were chosen
 //! before the search and held fixed (so that J stays smooth); they are
 //! checked at the estimate, and if it needs finer ones, or the searches
 //! took the fewer steps a search may (`crate::simulation::steps`,

@@ -1,4 +1,4 @@
-//! Stage 8, the result: the stages' values assembled into what RESULT.json
+//! Stage 9, the result: the stages' values assembled into what RESULT.json
 //! records.
 use super::bounds::Bounds;
 use super::judge::fit_signals;

@@ -1,4 +1,4 @@
-//! Stage 6, the bounds: Cramér–Rao standard errors and correlations
+//! Stage 7, the bounds: Cramér–Rao standard errors and correlations
 //! (eq. 26–29) from the exact Jacobian at the estimate, whole or, for a
 //! long record, as its triangular factor built block by block.
 use crate::identification::blocked_qr::BlockedQr;

@@ -1,10 +1,7 @@
-//! Stage 7, the verdict: the fit at the estimate, every sensor's signals,
+//! Stage 8, the verdict: the fit at the estimate, every sensor's signals,
 //! and the checks of [`crate::identification::verdict`].
 use super::bounds::Bounds;
 use crate::identification::noise::{NoiseModel, Whitener};
-
-/// No whitening (white noise).
-static NO_FILTER: Whitener = Whitener::NONE;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::LeastSquares;
 use crate::identification::search::SearchOutcome;
@@ -13,6 +10,9 @@ use crate::identification::verdict::{
 };
 use crate::model::ColumnName;
 use crate::simulation::{Response, SimulationError};
+
+/// No whitening (white noise).
+static NO_FILTER: Whitener = Whitener::NONE;
 
 /// Whether the fit at u passes the verdict's per-sensor checks (fit,
 /// whiteness, noise level, input) on what a noise model fitted to each
@@ -29,9 +29,7 @@ pub(super) fn fit_passes(
     };
     let mut signals = fit_signals(problem, Some(&fitted));
     let filters = own_filters(&signals, s, noise_model);
-    for (sig, filter) in signals.iter_mut().zip(&filters) {
-        sig.whitening = filter;
-    }
+    whiten_by(&mut signals, &filters);
     !fit_fails(&signals, s)
 }
 
@@ -53,6 +51,13 @@ fn own_filters(
         .iter()
         .map(|sig| own_filter(sig, s, noise_model))
         .collect()
+}
+
+/// Sets each signal's whitening to its filter in `filters`.
+fn whiten_by<'a>(signals: &mut [FitSignal<'a>], filters: &'a [Whitener]) {
+    for (sig, filter) in signals.iter_mut().zip(filters) {
+        sig.whitening = filter;
+    }
 }
 
 /// The whitening filter of a noise model of kind `noise_model` fitted to
@@ -103,19 +108,18 @@ pub(super) fn verdict(
     settings: &super::Settings,
 ) -> Verdict {
     let names: Vec<String> = problem.columns().iter().map(|c| c.name.clone()).collect();
-    let mut signals = fitted
+    let signals = fitted
         .as_ref()
         .map(|g| fit_signals(problem, Some(g)))
         .map_err(|e| e.to_string());
-    let filters = match &signals {
-        Ok(sig) => own_filters(sig, &settings.verdict, settings.noise_model),
-        Err(_) => Vec::new(),
-    };
-    if let Ok(sig) = &mut signals {
-        for (sig, filter) in sig.iter_mut().zip(&filters) {
-            sig.whitening = filter;
-        }
-    }
+    let filters = signals.as_ref().map_or_else(
+        |_| Vec::new(),
+        |sig| own_filters(sig, &settings.verdict, settings.noise_model),
+    );
+    let signals = signals.map(|mut sig| {
+        whiten_by(&mut sig, &filters);
+        sig
+    });
     assess(
         &Evidence {
             parameters: &names,

@@ -1,4 +1,4 @@
-//! Stage 3, the weights: each sensor weighted by its noise level estimated
+//! Stages 3 and 5, the weights: each sensor weighted by its noise level estimated
 //! from its residuals ([`Weighting::EstimatedNoise`], eq. 14 with each
 //! sensor's own σ²), before the restarts judge the ends when no end passes
 //! the fit checks; and at the best end, unless the noise is modelled white
