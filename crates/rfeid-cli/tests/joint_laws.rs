@@ -15,8 +15,19 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
+/// A file of the Bouc–Wen benchmark (`data/bouc-wen`: MAT-files holding
+/// `time`, `u` and `y`).
 fn bouc_wen_data(file: &str) -> PathBuf {
-    repo().join("../shared/data/bouc-wen").join(file)
+    repo().join("data/bouc-wen").join(file)
+}
+
+/// The signals of a Bouc–Wen benchmark file by name.
+fn bouc_wen_signals(path: &Path) -> HashMap<String, Vec<f64>> {
+    let file = rfeid::io::mat::read_mat_vectors(path).unwrap_or_else(|e| panic!("{e}"));
+    ["time", "u", "y"]
+        .into_iter()
+        .map(|v| (v.to_string(), file.require_vector(v).unwrap().to_vec()))
+        .collect()
 }
 
 /// Runs rfeid with `args`, which must succeed.
@@ -65,10 +76,14 @@ fn rms(x: &[f64]) -> f64 {
 /// `samples / 750 s`, written into `dir`.
 fn bouc_wen_model(dir: &Path, file: &Path, samples: usize) -> PathBuf {
     let text = std::fs::read_to_string(repo().join("examples/bouc-wen/model.toml")).unwrap();
+    let key = match file.extension() {
+        Some(e) if e == "mat" => "variable",
+        _ => "column",
+    };
     let text = text
         .replace(
-            "../../../shared/data/bouc-wen/train.csv",
-            &file.display().to_string(),
+            r#"file = "../../data/bouc-wen/train.mat", variable = "u""#,
+            &format!(r#"file = "{}", {key} = "u""#, file.display()),
         )
         .replace(
             "duration = \"54.61333333333333 s\"",
@@ -90,8 +105,8 @@ fn simulate_at(model: &Path, est: &HashMap<String, (f64, f64)>, out: &Path) -> V
     columns(out).remove("y").unwrap()
 }
 
-/// The benchmark (../shared/data/bouc-wen/README.md): k, c, α, βγ, βδ
-/// identified from train.csv with β fixed, within 5 % of the true values;
+/// The benchmark (data/bouc-wen/README.md): k, c, α, βγ, βδ
+/// identified from train.mat with β fixed, within 5 % of the true values;
 /// the simulation errors (RMS) on the steady-state multisine test (the
 /// input repeated for four periods, the last compared) at most 5e-6 m, and
 /// on the sine sweep from rest at most 1e-5 m.
@@ -105,7 +120,7 @@ fn the_bouc_wen_benchmark_is_identified_and_tested_by_simulation() {
     let dir = scratch_dir("bouc-wen");
     let out = dir.join("result.json");
     let model = repo().join("examples/bouc-wen/model.toml");
-    ok(identify(&model, bouc_wen_data("train.csv"), &out).arg("-q"));
+    ok(identify(&model, bouc_wen_data("train.mat"), &out).arg("-q"));
     let est = estimates(&out);
     let truth = [
         ("k", 5e4),
@@ -125,7 +140,7 @@ fn the_bouc_wen_benchmark_is_identified_and_tested_by_simulation() {
     }
 
     // The multisine test in steady state: its input four times over.
-    let test = columns(&bouc_wen_data("test_multisine.csv"));
+    let test = bouc_wen_signals(&bouc_wen_data("test_multisine.mat"));
     let (u, y) = (&test["u"], &test["y"]);
     let n = u.len();
     let repeated = dir.join("multisine4.csv");
@@ -148,8 +163,8 @@ fn the_bouc_wen_benchmark_is_identified_and_tested_by_simulation() {
     assert!(ms <= 5e-6, "multisine test: {ms:e} m");
 
     // The sine sweep from rest.
-    let sweep_file = bouc_wen_data("test_sinesweep.csv");
-    let sweep = columns(&sweep_file);
+    let sweep_file = bouc_wen_data("test_sinesweep.mat");
+    let sweep = bouc_wen_signals(&sweep_file);
     let model = bouc_wen_model(&dir, &sweep_file, sweep["y"].len());
     let sim = simulate_at(&model, &est, &dir.join("sweep.csv"));
     let err: Vec<f64> = sim.iter().zip(&sweep["y"]).map(|(s, m)| s - m).collect();
@@ -243,7 +258,7 @@ fn feed_axis_friction_round_trips_land_within_three_standard_errors() {
 fn bouc_wen_round_trips_land_within_three_standard_errors() {
     let dir = scratch_dir("bouc-wen-round-trip");
     let samples = 4096;
-    let base = bouc_wen_model(&dir, &bouc_wen_data("train.csv"), samples);
+    let base = bouc_wen_model(&dir, &bouc_wen_data("train.mat"), samples);
     let text = std::fs::read_to_string(&base).unwrap();
     let fixed_n = "beta = 1e3, gamma = \"gamma\", d = \"d\" }";
     assert!(text.contains(fixed_n));

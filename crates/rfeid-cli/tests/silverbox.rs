@@ -1,5 +1,5 @@
 //! The Silverbox benchmark on real measurements (`examples/silverbox`, data
-//! in `../shared/data/silverbox`): `rfeid identify` fits the Duffing
+//! in `data/silverbox`): `rfeid identify` fits the Duffing
 //! oscillator on samples 40 650 … 105 711 and must predict the test window,
 //! samples 105 712 … 127 399, to an RMS simulation error of at most 1.0 mV
 //! (a Duffing model reaches about 0.9 mV there; the rest is physics it
@@ -25,10 +25,9 @@ fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/silverbox/model.toml")
 }
 
-/// The measured output V2, from `../shared`.
+/// The measured output V2, from the repository's `data/`.
 fn measured_output() -> Vec<f64> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/silverbox/SNLS80mV.mat");
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/silverbox/SNLS80mV.mat");
     let file = read_mat_vectors(&path).unwrap_or_else(|e| panic!("{e}"));
     file.require_vector("V2").unwrap().to_vec()
 }

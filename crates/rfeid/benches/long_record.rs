@@ -1,6 +1,6 @@
 //! One simulation of a one-body model with a long tabulated input: the
 //! Silverbox example (105 712 samples of a measured voltage, a linear and a
-//! cubic spring; `../shared/data/silverbox`), at the steps its tolerance
+//! cubic spring; `data/silverbox`), at the steps its tolerance
 //! chooses. Criterion's throughput is in steps, so the time per step is
 //! 1 / (elements per second). Run with `cargo bench -p rfeid --bench
 //! long_record`.
@@ -14,9 +14,7 @@ fn silverbox(c: &mut Criterion) {
     let model = match load_model(&path) {
         Ok(model) => model,
         Err(e) => {
-            eprintln!(
-                "skipped: the Silverbox example does not load ({e}); it reads ../shared/data"
-            );
+            eprintln!("skipped: the Silverbox example does not load ({e})");
             return;
         }
     };

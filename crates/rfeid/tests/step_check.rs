@@ -70,7 +70,7 @@ fn truth(m: &Model, s: usize) -> f64 {
 /// is not below 0.9 of the truth.
 #[test]
 fn a_body_free_but_inert_along_five_coordinates_is_checked_on_windows() {
-    let table = r#"signal = { type = "table", file = "../../../shared/data/silverbox/SNLS80mV.mat", variable = "V1", amplitude = "gain" }"#;
+    let table = r#"signal = { type = "table", file = "../../data/silverbox/SNLS80mV.mat", variable = "V1", amplitude = "gain" }"#;
     let m = example("silverbox", |t| {
         assert!(t.contains(table), "the Silverbox input");
         let sine = r#"signal = { type = "sine", frequency = "40 Hz", amplitude = "gain" }"#;
