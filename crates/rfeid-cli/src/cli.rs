@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(Debug, Parser)]
 #[command(name = "rfeid", version, about, long_about = None)]
 #[command(
-    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model, data file or output location), 3 the identification's result was written but its verdict is suspect, 130/143/129 interrupted.\nOutputs: their directories must exist; inputs are never overwritten; all outputs of a run appear together or not at all; `-o -` writes to standard output. See the README, \"Output files\"."
+    after_help = "Exit status: 0 success, 1 a computation failed, 2 bad input (arguments, model, data file or output location), 3 the identification's result was written but its verdict is suspect, 4 it was written and its verdict is model error, 130/143/129 interrupted (docs/reference/exit-status.md).\nOutputs: their directories must exist; inputs are never overwritten; all outputs of a run appear together or not at all; `-o -` writes to standard output (docs/reference/output-files.md)."
 )]
 pub struct Cli {
     /// The command.
@@ -137,7 +137,7 @@ pub struct ValidateArgs {
 /// `rfeid design`.
 #[derive(Debug, Args)]
 pub struct DesignArgs {
-    /// The model file (TOML); every placed sensor and candidate needs `noise` (SPEC §6).
+    /// The model file (TOML); every placed sensor and candidate needs `noise` (docs/reference/model-file.md, [[sensor]]).
     pub model: PathBuf,
     /// Add the D-optimal K of the candidate sensors (`candidate = true`) to the placed ones.
     #[arg(long, value_name = "K")]

@@ -161,6 +161,7 @@ fn cases() -> Vec<Case> {
         case("k in a power law", edit(SLIDE, "m = 2.0,", "m = 2.0, k = 5.0,"), r#"element "slide", component ux"#, "k", "does not belong to the power law", Some("5.0")),
         case("negative stiffness", edit(r#"name = "pad""#, r#""6e7 N/m""#, r#""-6e7 N/m""#), r#"element "pad", component uz"#, "k", "must not be negative", Some(r#""-6e7 N/m""#)),
         case("unknown law", edit(SLIDE, r#""power""#, r#""quadratic""#), r#"element "slide", component ux"#, "law", "unknown law 'quadratic'", Some(r#""quadratic""#)),
+        case("unknown law with another law's keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "coulomb", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'coulomb'", Some(r#""coulomb""#)),
         // Excitations and sensors.
         case("zero excitation direction", edit(EXC, "direction = [1, 2, 1]", "direction = [0, 0, 0]"), exc, "direction", "zero", Some("[0, 0, 0]")),
         case("zero sensor direction", edit(SENSOR, "direction = [1, 0, 0]", "direction = [0, 0, 0.0]"), r#"sensor "knee_ax""#, "direction", "zero", Some("[0, 0, 0.0]")),
@@ -182,6 +183,7 @@ fn cases() -> Vec<Case> {
         case("unknown body key", edit(KNEE, "mass = 320.0", "masss = 320.0"), knee, "masss", "unknown field `masss`", Some("masss")),
         case("unknown component key", edit(SLIDE, "ux = { law", "ux = { lawz = 1, law"), slide, "lawz", "unknown field `lawz`", Some("lawz")),
         case("unknown top-level key", format!("gravty = [0, 0, -9.81]\n{VALID}"), "", "gravty", "unknown field `gravty`", Some("gravty")),
+        case("top-level key below a table's header", VALID.replace("sample_rate = 1000.0", "sample_rate = 1000.0\ngravity = [0, 0, -9.81]"), "[simulation]", "gravity", "'gravity' is a top-level key: write it above the first [table] header", Some("gravity")),
         // Simulation.
         case("missing [simulation]", VALID.replace("[simulation]\nduration = 0.1\nsample_rate = 1000.0\n", ""), "[simulation]", "", "no [simulation] table", None),
         case("zero sample rate", VALID.replace("sample_rate = 1000.0", "sample_rate = 0.0"), "[simulation]", "sample_rate", "must be positive", Some("0.0")),

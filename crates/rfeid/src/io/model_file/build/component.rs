@@ -53,6 +53,16 @@ fn law_name(rc: &RawComponent) -> String {
 fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     let rc = comp.raw();
     let name = law_name(rc);
+    const KNOWN: [&str; 5] = ["linear", "power", "friction", "bouc-wen", "none"];
+    if !KNOWN.contains(&name.as_str()) {
+        // Named first: a misspelt law is not a home for misplaced keys.
+        return Err(ctx.err(
+            rc.law.as_ref().map(|l| l.span()),
+            &comp.entry,
+            "law",
+            format!("unknown law '{name}' (linear, power, friction or bouc-wen)"),
+        ));
+    }
     if name != "friction" {
         for (v, field) in friction_keys(rc) {
             forbid(ctx, v, field, &name, &comp.entry)?;
@@ -80,15 +90,7 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
             }
             Ok(Law::None)
         }
-        other => {
-            let span = rc.law.as_ref().map(|l| l.span());
-            Err(ctx.err(
-                span,
-                &comp.entry,
-                "law",
-                format!("unknown law '{other}' (linear, power, friction or bouc-wen)"),
-            ))
-        }
+        other => unreachable!("law '{other}' was checked above"),
     }
 }
 

@@ -310,6 +310,18 @@ pub(super) fn unit_symbol(t: &str) -> &str {
     t[end..].trim()
 }
 
+/// The keys of the file itself, outside any entry (the fields of `RawFile`).
+const TOP_LEVEL_KEYS: [&str; 8] = [
+    "simulation",
+    "gravity",
+    "body",
+    "element",
+    "parameter",
+    "excitation",
+    "sensor",
+    "experiment",
+];
+
 /// A TOML syntax or schema error. An unknown key (a typo) is named as the
 /// field, in the entry that holds it.
 pub(super) fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<ModelFileError> {
@@ -332,6 +344,12 @@ pub(super) fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> Box<Mode
         .span()
         .and_then(|span| entry_at(text, span.start))
         .unwrap_or_default();
+    if !entry.is_empty() && TOP_LEVEL_KEYS.contains(&field.as_str()) {
+        // `gravity = …` written below `[simulation]` belongs to that table.
+        message = format!(
+            "{message}; '{field}' is a top-level key: write it above the first [table] header (TOML puts a key into the table whose header comes before it)"
+        );
+    }
     ctx.err(e.span(), &entry, &field, message)
 }
 
