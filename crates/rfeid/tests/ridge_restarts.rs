@@ -143,3 +143,30 @@ fn the_same_misfit_without_a_ridge_is_restarted() {
         w => panic!("no restart without a ridge: {w}"),
     }
 }
+
+/// A singular Fisher matrix (the two springs act only as their sum) is
+/// reported with the parameters' names, in RESULT.json's
+/// `uncertainty_error` and in the verdict's reason, not by their indices.
+#[test]
+fn a_singular_fisher_matrix_names_its_parameters() {
+    let settings = Settings {
+        plan_points: 32,
+        starts: 1,
+        ..Settings::default()
+    };
+    let m = split();
+    let problem = OutputError::new(Simulator::new(&m), data(), 0);
+    let r = identify(problem, &settings, &Silent).expect("identifies");
+    let named = "k1a, k1b cannot be told apart";
+    let e = r.uncertainty_error.as_deref().expect("no standard errors");
+    assert!(e.contains(named), "{e}");
+    let reasons: Vec<String> = r
+        .verdict
+        .as_ref()
+        .expect("a verdict")
+        .reasons
+        .iter()
+        .map(|x| x.to_string())
+        .collect();
+    assert!(reasons.iter().any(|x| x.contains(named)), "{reasons:?}");
+}

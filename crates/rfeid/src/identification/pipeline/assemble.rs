@@ -78,7 +78,12 @@ pub(super) fn assemble(
         }),
         condition_number: cramer_rao.map(|c| c.condition_number),
         warnings,
-        uncertainty_error: f.bounds.cramer_rao.as_ref().err().map(|e| e.to_string()),
+        uncertainty_error: f
+            .bounds
+            .cramer_rao
+            .as_ref()
+            .err()
+            .map(|e| e.describe(&names)),
         method: settings.method,
         termination: f.best.stop,
         termination_message: f.best.stop.to_string(),

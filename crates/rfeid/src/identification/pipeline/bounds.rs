@@ -22,6 +22,27 @@ pub(super) enum BoundsError {
     Analysis(UncertaintyError),
 }
 
+impl BoundsError {
+    /// The error in words, the parameters by name (the library's error
+    /// counts them by index): RESULT.json's `uncertainty_error` and the
+    /// verdict's reason.
+    pub(super) fn describe(&self, names: &[String]) -> String {
+        match self {
+            BoundsError::Analysis(UncertaintyError::Singular {
+                parameters,
+                condition_number,
+            }) => {
+                let named: Vec<&str> = parameters.iter().map(|&j| names[j].as_str()).collect();
+                format!(
+                    "the Fisher matrix is singular (scaled condition number {condition_number:e}): {} cannot be told apart from the data",
+                    named.join(", ")
+                )
+            }
+            other => other.to_string(),
+        }
+    }
+}
+
 /// The bounds at the estimate, and s² (eq. 29) when the residuals could be
 /// evaluated.
 pub(super) struct Bounds {

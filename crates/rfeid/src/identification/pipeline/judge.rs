@@ -132,7 +132,7 @@ pub(super) fn verdict(
             signals,
             identifiability: match &bounds.cramer_rao {
                 Ok(c) => Ok(&c.warnings),
-                Err(e) => Err(e.to_string()),
+                Err(e) => Err(e.describe(&names)),
             },
             correlation_threshold: settings.uncertainty.correlation_threshold(),
         },
