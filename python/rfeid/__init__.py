@@ -11,10 +11,28 @@ results into numpy arrays, pandas DataFrames and dicts::
     res = rfeid.identify(m, sim.to_pandas())
     res.estimates, res.std_errors, res.verdict.trustworthy
 
+- :class:`Model` -- a model file: ``Model.load(path)``, its parameters,
+  sensors and sampling, and ``Model.simulate()`` -> :class:`Simulation`;
+- :func:`identify` -> :class:`Identification`: estimates, standard
+  errors, correlations, the :class:`Verdict`, RESULT.json and the report;
+- :func:`design` -> :class:`Design`: predicted standard errors of a
+  planned test and the D-optimal choice of candidate sensors.
+
+Units: every number is SI (N, m, kg, s, rad and their products: a
+stiffness in N/m, a damping in N*s/m, a power law's ``a`` in N/m^m, or in
+N with a reference deformation), whatever unit the model file wrote it
+in; times are in seconds and rates in Hz. :class:`Parameter` gives the
+unit a value is shown in and its size in SI.
+
 Errors are exceptions: :class:`ModelError` and :class:`DataError` (both
-``ValueError``) name the file, entry, field or column; an identification
-that cannot be done raises :class:`IdentificationError` (a
-``RuntimeError``). Ctrl-C stops a long call with ``KeyboardInterrupt``.
+``ValueError``) name the file, entry, field or column; an option out of
+range is a ``ValueError`` named as the keyword (``plan=0: ...``); an
+identification or simulation that cannot be done raises
+:class:`IdentificationError` (a ``RuntimeError``). Notes of the library
+that are warnings (a ``set`` value outside its box, say) are issued as
+``UserWarning``. Ctrl-C stops a long call with ``KeyboardInterrupt``.
+Campaigns (``[[experiment]]`` entries), shards and ``validate`` are for
+the command line.
 """
 from __future__ import annotations
 
@@ -79,8 +97,25 @@ def _set_list(set: SetValues) -> List[str]:
 
 @dataclass(frozen=True)
 class Parameter:
-    """A parameter of a model: SI values, its box (``None`` if fixed), and
-    the unit it is shown in (``unit_scale`` is one unit in SI)."""
+    """A parameter of a model, as :attr:`Model.parameters` lists it.
+
+    Attributes:
+        name: its name in the model file.
+        value: the nominal value (the model file's ``value``), SI.
+        min, max: the box it is identified in, SI; ``None`` for a fixed
+            parameter.
+        unit: the unit it is shown in, as the model file wrote it
+            (``"daN/um^2"``); ``""`` for a bare number.
+        unit_scale: one ``unit`` in SI (1e13 for daN/um^2), so
+            ``value / unit_scale`` is the value in ``unit``.
+        scale: ``"linear"`` or ``"log"``: how the plan and the local search
+            spread over the box.
+        dimension: its SI unit as text (``"N/m^2"``, ``"N·s/m"``, ``"kg"``,
+            ``"dimensionless"``): the unit of ``value``, ``min`` and ``max``.
+        identified: True when it has a box (``min`` and ``max``).
+        per_experiment: True when a campaign identifies it once per
+            experiment (the command line's campaigns only).
+    """
 
     name: str
     value: float
@@ -95,57 +130,80 @@ class Parameter:
 
 
 class Model:
-    """A model file (TOML, SPEC §1), loaded and validated by the library."""
+    """A model file (TOML, SPEC §1), loaded and validated by the library.
+
+    Make one with :meth:`load` (a file) or :meth:`from_toml` (its text).
+    ``repr()`` summarises it: bodies, elements, parameters, sensors,
+    samples and sample rate.
+    """
 
     def __init__(self, native: _rfeid.Model) -> None:
         self._native = native
 
     @classmethod
     def load(cls, path: PathLike) -> "Model":
-        """Loads and validates a model file; raises :class:`ModelError`
-        naming the file, entry and field of a problem."""
+        """Loads and validates a model file (TOML, SPEC §1).
+
+        Returns a :class:`Model`. Raises :class:`ModelError` naming the
+        file, entry and field of a problem (a missing or unreadable file
+        too).
+        """
         return cls(_rfeid.Model.load(os.fspath(path)))
 
     @classmethod
     def from_toml(cls, text: str, base_dir: PathLike = ".") -> "Model":
-        """A model from the text of a model file; relative paths in it are
-        found from ``base_dir``."""
+        """A model from the text of a model file.
+
+        Returns a :class:`Model` whose :attr:`path` is ``None``; relative
+        paths in the text (signal tables) are found from ``base_dir``
+        (default: the current directory). Raises :class:`ModelError` as
+        :meth:`load` does.
+        """
         return cls(_rfeid.Model.from_toml(text, os.fspath(base_dir)))
 
     @property
     def path(self) -> Optional[str]:
-        """The file the model was loaded from (``None`` for a text)."""
+        """The file the model was loaded from, a ``str`` as given to
+        :meth:`load` (``None`` for a model from a text)."""
         p = self._native.path
         return None if p is None else os.fspath(p)
 
     @property
     def parameters(self) -> List[Parameter]:
-        """The parameters: names, values, boxes and units."""
+        """The model's parameters in the file's order: a list of
+        :class:`Parameter` (names, values and boxes in SI, the units they
+        are shown in)."""
         return [Parameter(**d) for d in self._native.parameters]
 
     @property
     def sensors(self) -> List[str]:
-        """The sensors' names, in the model's order."""
+        """The sensors' names (a list of ``str``) in the model's order: the
+        columns of :attr:`Simulation.values`, and the columns
+        :func:`identify` reads."""
         return list(self._native.sensor_names)
 
     @property
     def sensor_units(self) -> List[str]:
-        """The sensors' SI units, in the model's order."""
+        """The sensors' SI units (a list of ``str``: ``"m"``, ``"m/s"`` or
+        ``"m/s^2"`` for displacement, velocity or acceleration), in the
+        model's order."""
         return list(self._native.sensor_units)
 
     @property
     def sample_rate(self) -> float:
-        """The sample rate, Hz."""
+        """The sample rate of the model's record, Hz (a ``float``)."""
         return self._native.sample_rate
 
     @property
     def duration(self) -> float:
-        """The record's length, s."""
+        """The record's length, s (a ``float``): ``round(duration ×
+        sample_rate)`` samples, the first at t = 0."""
         return self._native.duration
 
     @property
     def notes(self) -> List[str]:
-        """What reading the file noted."""
+        """What reading the file noted (a list of ``str``; a table's time
+        axis taken on the model's grid, say); empty when nothing was."""
         return list(self._native.notes)
 
     def simulate(
@@ -157,14 +215,29 @@ class Model:
         tolerance: Optional[float] = None,
         substeps: Optional[int] = None,
     ) -> "Simulation":
-        """The sensors' response at the nominal values, as ``rfeid simulate``.
+        """The sensors' response at the parameters' values, as ``rfeid simulate``.
 
-        ``set`` changes parameter values (SI numbers, or strings with a
-        unit such as ``"450 daN/um^2"``); ``noise`` adds white Gaussian
-        noise of that fraction of each sensor's RMS (seeded with ``seed``),
-        passed through a low-pass at ``noise_corner`` Hz if given;
-        ``tolerance`` and ``substeps`` override the model's integrator
-        settings. The GIL is released while it runs.
+        Returns a :class:`Simulation`: ``time`` in s (n samples from 0 at
+        1/:attr:`sample_rate`), ``values`` n × sensors in each sensor's SI
+        unit (m, m/s or m/s^2), the same numbers as ``rfeid simulate``'s
+        CSV.
+
+        ``set`` changes parameter values (a mapping name -> SI number, or
+        a string with a unit such as ``"450 daN/um^2"``; a value outside
+        its box is allowed, with a ``UserWarning``); ``noise`` adds
+        Gaussian noise of standard deviation ``noise`` × RMS of each
+        sensor's signal (a fraction: 0.02 is 2 %), seeded with ``seed``,
+        passed through a second-order Butterworth low-pass with its corner
+        at ``noise_corner`` Hz if given (the standard deviation stays the
+        same); ``tolerance`` (the relative RMS error the integrator's steps
+        are chosen for, 1e-13 to 1e-2) and ``substeps`` (steps per sample,
+        1 to 1000) override the model's integrator settings.
+
+        Raises :class:`ModelError` for an unknown parameter, a value of the
+        wrong dimension or a bad ``tolerance``/``substeps``, ``ValueError``
+        for a negative ``noise`` or a ``noise_corner`` without ``noise``,
+        :class:`IdentificationError` if the simulation fails. The GIL is
+        released while it runs.
         """
         if noise_corner is not None and noise is None:
             raise ValueError("noise_corner: needs noise")
@@ -186,8 +259,16 @@ class Model:
 
 @dataclass
 class Simulation:
-    """A simulated record: ``time`` (s, n), ``values`` (n × sensors, SI),
-    the sensors' ``names`` and ``units``."""
+    """A simulated record, as :meth:`Model.simulate` returns it.
+
+    Attributes:
+        time: the sample instants, s: a numpy array of n floats from 0 in
+            steps of 1/sample_rate.
+        names: the sensors' names, in the model's order.
+        units: the sensors' SI units (``"m"``, ``"m/s"``, ``"m/s^2"``).
+        values: the readings, a numpy array n × sensors (row k at
+            ``time[k]``, column i the sensor ``names[i]`` in ``units[i]``).
+    """
 
     time: np.ndarray
     names: List[str]
@@ -195,8 +276,10 @@ class Simulation:
     values: np.ndarray
 
     def to_pandas(self) -> Any:
-        """A DataFrame with a ``time`` column and one column per sensor,
-        as the CSV of ``rfeid simulate``."""
+        """Returns a pandas DataFrame: a ``time`` column (s), then one
+        column per sensor (SI), as the CSV of ``rfeid simulate``; it is
+        data :func:`identify` takes. Needs pandas (``pip install
+        "./python[pandas]"``)."""
         import pandas as pd
 
         frame = pd.DataFrame(self.values, columns=self.names)
@@ -204,7 +287,9 @@ class Simulation:
         return frame
 
     def to_dict(self) -> Dict[str, np.ndarray]:
-        """A mapping ``time`` and sensor name → array, as ``identify`` takes."""
+        """Returns a dict ``"time"`` (s) and each sensor's name -> a 1-D
+        numpy array (SI), which :func:`identify` takes as data (no pandas
+        needed)."""
         out = {"time": self.time}
         out.update({n: self.values[:, i] for i, n in enumerate(self.names)})
         return out
@@ -218,16 +303,23 @@ class Simulation:
 
 @dataclass(frozen=True)
 class Verdict:
-    """Whether the result can be trusted (SPEC §4): ``outcome`` is
-    ``"trustworthy"``, ``"suspect"`` or ``"model error"``, with the reasons
-    in words."""
+    """Whether the result can be trusted (SPEC §4), as
+    :attr:`Identification.verdict` gives it.
+
+    Attributes:
+        outcome: ``"trustworthy"``, ``"suspect"`` or ``"model error"`` (the
+            command line's exit status 0, 3 and 4).
+        reasons: the checks that failed, each in words (a tuple of ``str``;
+            empty when trustworthy).
+    """
 
     outcome: str
     reasons: Tuple[str, ...]
 
     @property
     def trustworthy(self) -> bool:
-        """True when no check failed."""
+        """Returns True when no check failed (``outcome`` is
+        ``"trustworthy"``), else False."""
         return self.outcome == "trustworthy"
 
 
@@ -321,23 +413,52 @@ def identify(
     """Identifies the parameters with a box from measured data, as
     ``rfeid identify`` with the same options does (same numbers).
 
-    ``data`` is a data file (CSV, MAT, UFF), a DataFrame with a ``time``
-    column (or index) and a column per sensor, or a mapping of names to
-    arrays with ``"time"``. Options have the command line's names and
-    defaults: ``plan`` LP_τ points (100), ``starts`` local searches (1),
-    ``method`` ``"lm"`` or ``"bfgs"``, ``weights`` ``"equal"`` or
-    ``"estimated"`` (default), ``noise_model`` ``"ar"`` or ``"white"``,
-    ``window`` the fraction of the record fitted first (0.15; 0 off),
-    ``from_`` the first time fitted (s; ``--from``), ``threads`` (all
-    cores; results do not depend on it), ``start`` ``"plan"`` or
-    ``"values"``, ``set`` parameters fixed for this run,
-    ``jacobian_memory`` the most MiB a whole Jacobian may take (256; a
-    longer record's goes block by block into its triangular factor, the
-    same results to rounding; 0: always). ``progress=True`` shows the
-    search's progress on standard error.
+    Returns an :class:`Identification`: estimates and standard errors in
+    SI units, correlations, the :class:`Verdict`, RESULT.json's document
+    and the report. Notes of the reading are kept in its ``notes``; those
+    that are warnings are also issued as ``UserWarning``.
 
-    The GIL is released while it runs; Ctrl-C raises ``KeyboardInterrupt``
-    within about a second.
+    ``data`` is a data file (CSV, MAT, UFF: a ``str`` or path), a
+    DataFrame with a ``time`` column (or index, s) and a column per sensor
+    (SI), or a mapping of names to arrays with ``"time"``, sampled at the
+    model's sample rate (a record starting after t = 0 is taken as
+    starting there, a longer one is cut, each with a note). Options have
+    the command line's names and defaults:
+
+    - ``plan``: points of the LP_τ plan over the box (100; 1 to 1 000 000);
+    - ``starts``: local searches from the best plan points (1; at most
+      1000 and the plan);
+    - ``method``: ``"lm"`` (Levenberg–Marquardt, the default) or
+      ``"bfgs"``;
+    - ``weights``: ``"estimated"`` (the default, 1/σ² per sensor) or
+      ``"equal"``;
+    - ``noise_model``: ``"ar"`` (the default) or ``"white"``;
+    - ``window``: the fraction of the record each local search fits first
+      (0.15; 0 ≤ window < 1, 0 off);
+    - ``from_``: the first time fitted, s (0; ``--from``);
+    - ``threads``: worker threads (all cores; results do not depend on it);
+    - ``start``: ``"plan"`` or ``"values"`` (one search from the model
+      file's values, without the plan);
+    - ``set``: parameters fixed for this run (name -> SI number or a
+      string with a unit);
+    - ``tolerance``: the relative RMS error the integrator's steps are
+      chosen for (the model's, else 1e-7; 1e-13 to 1e-2);
+    - ``substeps``: integrator steps per sample instead (1 to 1000);
+    - ``jacobian_memory``: the most MiB a whole Jacobian may take (256; a
+      longer record's goes block by block into its triangular factor, the
+      same results to rounding; 0: always);
+    - ``progress=True``: shows the plan's bar and the local search's
+      iterations on standard error.
+
+    Raises ``ValueError`` for an option out of range (named as the
+    keyword: ``plan=0: must be 1 to 1000000``), :class:`ModelError` for a
+    bad ``set``, ``tolerance`` or ``substeps``, or a model with
+    ``[[experiment]]`` entries (campaigns are for the command line),
+    :class:`DataError` for data that do not fit the model (a missing
+    column, another sample rate, a value that is not finite: named), and
+    :class:`IdentificationError` for a run that cannot be done. The GIL is
+    released while it runs; Ctrl-C raises ``KeyboardInterrupt`` within
+    about a second and cancels the run.
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
@@ -373,34 +494,49 @@ def identify(
 
 class Identification:
     """The result of :func:`identify`: estimates and standard errors (SI),
-    correlations, the verdict, RESULT.json's document and the report."""
+    correlations, the verdict, RESULT.json's document and the report.
+
+    Attributes:
+        document: RESULT.json's document as a dict (SI values; see the
+            reference of RESULT.json for its fields).
+        notes: what reading the data noted, as a list of ``str``; the
+            warnings among them begin with ``"warning: "``.
+
+    ``repr()`` is a table of estimates, standard errors, relative standard
+    errors in the units the model file uses, and the verdict's reasons;
+    Jupyter shows it as an HTML table.
+    """
 
     def __init__(self, native: _rfeid.Identification, notes: Sequence[str] = ()) -> None:
         self._native = native
         self.notes: List[str] = list(notes)
         self.document: Dict[str, Any] = json.loads(native.to_json())
-        """RESULT.json's document as a dict."""
+        # RESULT.json's document as a dict.
 
     @property
     def parameter_names(self) -> List[str]:
-        """The identified parameters, in the result's order."""
+        """The identified parameters' names (a list of ``str``), in the
+        result's order: that of :attr:`correlation`'s rows and columns."""
         return [p["name"] for p in self.document["parameters"]]
 
     @property
     def estimates(self) -> Dict[str, float]:
-        """Estimates by parameter name, SI."""
+        """The estimates: a dict parameter name -> ``float``, in SI units
+        (each parameter's :attr:`Parameter.dimension`: N/m, N*s/m, ...)."""
         return {p["name"]: p["estimate"] for p in self.document["parameters"]}
 
     @property
     def std_errors(self) -> Dict[str, Optional[float]]:
-        """Standard errors (Cramér–Rao, eq. 26–29) by parameter name, SI;
-        ``None`` where they could not be computed."""
+        """The standard errors (Cramér–Rao bounds, eq. 26–29): a dict
+        parameter name -> ``float`` in the estimate's SI unit, or ``None``
+        where they could not be computed (a singular Fisher matrix)."""
         return {p["name"]: p.get("std_error") for p in self.document["parameters"]}
 
     @property
     def correlation(self) -> np.ndarray:
-        """The estimates' correlation matrix, r × r, in
-        :attr:`parameter_names` order (NaN where undefined)."""
+        """The estimates' correlation matrix: a numpy array r × r of
+        numbers from -1 to 1 (dimensionless), in :attr:`parameter_names`
+        order; NaN where undefined."""
         c = self.document.get("correlation")
         r = len(self.parameter_names)
         if c is None:
@@ -409,19 +545,23 @@ class Identification:
 
     @property
     def verdict(self) -> Verdict:
-        """Whether the result can be trusted, and why not."""
+        """Returns the :class:`Verdict`: whether the result can be trusted,
+        and why not (``"suspect"`` with a reason if no verdict was
+        reached)."""
         v = self._native.verdict()
         if v is None:
             return Verdict("suspect", ("no verdict was reached",))
         return Verdict(v[0], tuple(v[1]))
 
     def to_json(self) -> str:
-        """The same document as RESULT.json of ``rfeid identify``."""
+        """Returns RESULT.json's text (a ``str`` of JSON, SI values): the
+        same document as ``rfeid identify -o`` writes for the same run."""
         return self._native.to_json()
 
     def report(self, directory: PathLike) -> str:
         """Writes the HTML report (report.html and SVG figures) into
-        ``directory`` (created if missing); returns report.html's path."""
+        ``directory``, created if missing (its parent must exist; else
+        ``OSError``). Returns report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
 
     def _rows(self) -> List[Tuple[str, str, str, str, str]]:
@@ -477,12 +617,23 @@ def design(
 ) -> "Design":
     """What a test will give before it is run, as ``rfeid design`` (SPEC §6).
 
+    Returns a :class:`Design`: the predicted standard errors (SI) and, with
+    ``choose``, the sensors chosen and the D-efficiency they are
+    guaranteed; the same document as ``rfeid design -o``.
+
     Predicts the Cramér–Rao standard errors of the placed sensors (each
-    sensor's ``noise`` in the model file) at the parameters' values (or at
-    ``set``, inside the box); ``choose=K`` adds the D-optimal K of the
-    candidate sensors (``candidate = true``), with a bound on how far from
-    optimal the choice can be; ``over_box=N`` chooses for the average over
-    N LP_τ points of the box.
+    sensor's ``noise`` in the model file, its standard deviation in the
+    sensor's SI unit) at the parameters' values (or at ``set``, inside the
+    box); ``choose=K`` adds the D-optimal K of the candidate sensors
+    (``candidate = true``), with a bound on how far from optimal the
+    choice can be; ``over_box=N`` chooses for the average over N LP_τ
+    points of the box (needs ``choose``); ``threads``: worker threads (all
+    cores).
+
+    Raises ``ValueError`` for ``choose=0`` or ``over_box`` without
+    ``choose``, :class:`ModelError` for a model without candidate sensors
+    (with ``choose``) or a ``set`` value outside its box. Ctrl-C raises
+    ``KeyboardInterrupt`` within about a second.
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
@@ -495,41 +646,60 @@ def design(
 
 
 class Design:
-    """The result of :func:`design`: the document of ``rfeid design -o``."""
+    """The result of :func:`design`: the document of ``rfeid design -o``.
+
+    Attributes:
+        document: the design's document as a dict (SI values).
+
+    ``repr()`` lists the predicted relative standard errors and the
+    sensors chosen.
+    """
 
     def __init__(self, native: _rfeid.Design) -> None:
         self._native = native
         self.document: Dict[str, Any] = json.loads(native.to_json())
-        """The design's document as a dict."""
+        # The design's document as a dict.
 
     @property
     def chosen(self) -> List[str]:
-        """The candidate sensors chosen (empty without ``choose``)."""
+        """The names of the candidate sensors chosen (a list of ``str``;
+        empty without ``choose``)."""
         return list(self.document["chosen"])
 
     @property
     def std_errors(self) -> Dict[str, Optional[float]]:
-        """Predicted standard errors by parameter, SI: with the chosen
-        sensors added, else the placed sensors'."""
+        """Predicted standard errors: a dict parameter name -> ``float``
+        in the parameter's SI unit (``None`` where undefined), with the
+        chosen sensors added to the placed ones (the placed sensors'
+        alone without ``choose``)."""
         return {p["name"]: p["std_error"] for p in self.document["parameters"]}
 
     @property
     def placed_std_errors(self) -> Dict[str, Optional[float]]:
-        """Predicted standard errors of the placed sensors alone, SI."""
+        """Predicted standard errors of the placed sensors alone: a dict
+        parameter name -> ``float`` in SI (``None`` where undefined)."""
         return {p["name"]: p["std_error"] for p in self.document["placed"]["parameters"]}
 
     @property
     def efficiency_at_least(self) -> Optional[float]:
-        """The D-efficiency the choice is guaranteed (``None`` without ``choose``)."""
+        """The D-efficiency the choice is guaranteed, a fraction from 0 to
+        1 (det F of the choice against the best possible, per parameter:
+        0.93 means no choice of as many candidates gives more than 1/0.93
+        times the information per parameter); ``None`` without
+        ``choose``."""
         choice = self.document.get("choice")
         return None if choice is None else choice["efficiency_at_least"]
 
     def to_json(self) -> str:
-        """The same document as ``rfeid design -o``."""
+        """Returns the design's text (a ``str`` of JSON, SI values): the
+        same document as ``rfeid design -o`` writes."""
         return self._native.to_json()
 
     def report(self, directory: PathLike) -> str:
-        """Writes the HTML report into ``directory``; returns report.html's path."""
+        """Writes the HTML report (the candidates on the bodies, the
+        predicted relative standard errors) into ``directory``, created if
+        missing (its parent must exist; else ``OSError``). Returns
+        report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
 
     def __repr__(self) -> str:

@@ -21,7 +21,8 @@ pub struct PyDesign {
 
 #[pymethods]
 impl PyDesign {
-    /// The design as `rfeid design -o` writes it.
+    /// Returns the design as `rfeid design -o` writes it (JSON text, SI
+    /// values).
     fn to_json(&self) -> PyResult<String> {
         let value = design_json(&self.model, &self.design);
         serde_json::to_string_pretty(&value)
@@ -30,7 +31,8 @@ impl PyDesign {
     }
 
     /// Writes the HTML report (the candidates on the bodies, the predicted
-    /// standard errors) into `dir`; returns report.html's path.
+    /// standard errors) into `dir`, created if missing (its parent must
+    /// exist); returns report.html's path.
     fn report(&self, dir: PathBuf) -> PyResult<PathBuf> {
         let files =
             rfeid::report::design::design_report_files(&self.model, &self.design, &self.title);
@@ -39,7 +41,9 @@ impl PyDesign {
 }
 
 /// Designs a test of `model` as `rfeid design` does: `set` (`NAME=VALUE`)
-/// inside the box, `choose` candidates added, `over_box` LP_τ points.
+/// inside the box, `choose` candidates added, `over_box` LP_τ points,
+/// `threads` worker threads (all cores by default). Returns (the design,
+/// the notes of the settings).
 #[pyfunction]
 #[pyo3(signature = (model, *, set, choose, over_box, threads))]
 pub fn design(

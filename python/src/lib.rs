@@ -17,7 +17,8 @@ mod watch;
 
 use pyo3::prelude::*;
 
-/// The module.
+/// The native part of rfeid (Rust, PyO3); use the package `rfeid`. Arrays
+/// cross as little-endian float64 bytes; every number is SI.
 #[pymodule]
 fn _rfeid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();

@@ -34,7 +34,9 @@ pub struct PyModel {
 
 #[pymethods]
 impl PyModel {
-    /// Loads a model file (TOML, SPEC §1).
+    /// Loads a model file (TOML; docs/reference/model-file.md) and returns
+    /// the Model. Raises ModelError naming the file, entry and field (a
+    /// missing file too).
     #[staticmethod]
     fn load(path: PathBuf) -> PyResult<Self> {
         let model = load_model(&path).map_err(model_error)?;
@@ -51,7 +53,8 @@ impl PyModel {
     }
 
     /// A model from the text of a model file; relative paths in it (signal
-    /// tables) are found from `base_dir`.
+    /// tables) are found from `base_dir` (default: the current directory).
+    /// Returns the Model; raises ModelError.
     #[staticmethod]
     #[pyo3(signature = (text, base_dir = None))]
     fn from_toml(text: &str, base_dir: Option<PathBuf>) -> PyResult<Self> {
@@ -77,8 +80,9 @@ impl PyModel {
     }
 
     /// The parameters, each a dict: name, value, min, max (SI; `None` for a
-    /// fixed one), unit, unit_scale, scale, dimension, identified,
-    /// per_experiment.
+    /// fixed one), unit (as the file wrote it; "" for a bare number),
+    /// unit_scale (one such unit in SI), scale ("linear" or "log"),
+    /// dimension (the SI unit as text), identified, per_experiment.
     #[getter]
     fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         self.model
@@ -107,7 +111,7 @@ impl PyModel {
         self.model.sensors.iter().map(|s| s.name.clone()).collect()
     }
 
-    /// The sensors' SI units, in the model's order.
+    /// The sensors' SI units ("m", "m/s" or "m/s^2"), in the model's order.
     #[getter]
     fn sensor_units(&self) -> Vec<&'static str> {
         self.model.sensors.iter().map(|s| s.kind.unit()).collect()
@@ -125,13 +129,14 @@ impl PyModel {
         self.model.sampling.duration
     }
 
-    /// The record's samples.
+    /// The number of samples in the record: round(duration × sample_rate).
     #[getter]
     fn n_samples(&self) -> usize {
         self.model.sampling.n_samples()
     }
 
-    /// The names of the `[[experiment]]` entries (a campaign), if any.
+    /// The names of the `[[experiment]]` entries (a campaign); an empty
+    /// list if none.
     #[getter]
     fn experiments(&self) -> Vec<String> {
         self.model
@@ -144,7 +149,10 @@ impl PyModel {
     /// Simulates at the nominal values with `set` (`NAME=VALUE`) applied,
     /// as `rfeid simulate` does: returns (time, values, n_samples,
     /// n_sensors, warnings), the arrays as little-endian f64 bytes, values
-    /// sensor by sensor.
+    /// sensor by sensor; time in s, values in the sensors' SI units.
+    /// `noise` is a fraction of each sensor's RMS, `noise_corner` in Hz,
+    /// `tolerance` a relative RMS error (1e-13 to 1e-2), `substeps` steps
+    /// per sample.
     #[pyo3(signature = (set, noise, noise_corner, seed, tolerance, substeps))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(

@@ -26,12 +26,12 @@ pub struct PyIdentification {
 
 #[pymethods]
 impl PyIdentification {
-    /// The result as RESULT.json holds it.
+    /// Returns the result as RESULT.json holds it (JSON text, SI values).
     fn to_json(&self) -> PyResult<String> {
         self.result.to_json_text().map_err(failed)
     }
 
-    /// The verdict (SPEC §4) as (outcome, reasons): the outcome
+    /// The verdict (docs/reference/verdict.md) as (outcome, reasons): the outcome
     /// `"trustworthy"`, `"suspect"` or `"model error"`, each reason in
     /// words; `None` when no verdict was reached.
     fn verdict(&self) -> Option<(&'static str, Vec<String>)> {

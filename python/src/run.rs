@@ -152,8 +152,12 @@ fn search(
 
 /// Identifies `model`'s parameters from `data`: the library's options,
 /// `set` fixed, the data read and matched, the run prepared and searched,
-/// the result's source recorded, as `rfeid identify` does. Returns the
-/// result and the notes of the reading.
+/// the result's source recorded, as `rfeid identify` does. Units: `from_`
+/// in s, `window` a fraction of the record, `tolerance` a relative RMS
+/// error, `substeps` steps per sample, `jacobian_memory` MiB;
+/// `progress(done, total, search, searches, iteration, J)` is called every
+/// 50 ms and once at the end. Returns the result and the notes of the
+/// reading.
 #[pyfunction]
 #[pyo3(signature = (model, data, *, set, plan, starts, method, weights, noise_model, window,
     from_, threads, start, tolerance, substeps, jacobian_memory, progress))]
