@@ -19,7 +19,8 @@ else. Fenced blocks, in order:
 - anything else (```text, ```toml without file=, ```console) is shown
   output or an excerpt, and is not run.
 
-`rfeid` is the binary the tests built (target/release/rfeid, or $RFEID_BIN);
+First, every relative link of README.md, CHANGELOG.md and docs/ must name
+an existing file (and heading). `rfeid` is the binary the tests built (target/release/rfeid, or $RFEID_BIN);
 `python` is the tests' virtual environment (target/venv, or $GUIDE_PYTHON).
 """
 import os
@@ -119,9 +120,11 @@ def run_chapter(chapter, binary, python):
         bindir = pathlib.Path(tmp) / "bin"
         bindir.mkdir()
         (bindir / "rfeid").symlink_to(binary)
-        (bindir / "python").symlink_to(pathlib.Path(python).absolute())
-        env = dict(os.environ, PATH=f"{bindir}:{os.environ['PATH']}", MPLBACKEND="Agg",
-                   NO_COLOR="1")
+        # The interpreter's own directory on PATH, so that `python` in a shell
+        # block is the virtual environment's (a link to it would not be).
+        pydir = pathlib.Path(python).absolute().parent
+        env = dict(os.environ, PATH=f"{bindir}:{pydir}:{os.environ['PATH']}",
+                   MPLBACKEND="Agg", NO_COLOR="1")
         py = None
         for n, (line, lang, opts, text) in enumerate(blocks(chapter)):
             where = f"{chapter.relative_to(ROOT)}:{line}"
@@ -154,7 +157,47 @@ def run_chapter(chapter, binary, python):
     return ran, failures
 
 
+def anchors(path):
+    """The anchors of a Markdown file's headings, as GitHub makes them."""
+    out = set()
+    for line in path.read_text().splitlines():
+        if line.startswith("#"):
+            title = line.lstrip("#").strip().lower()
+            slug = "".join(c for c in title if c.isalnum() or c in " -_")
+            out.add(slug.replace(" ", "-"))
+    return out
+
+
+def broken_links():
+    """Relative links of README.md and docs/ whose file or heading is missing."""
+    bad = []
+    for doc in [ROOT / "README.md", ROOT / "CHANGELOG.md", *sorted((ROOT / "docs").rglob("*.md"))]:
+        if not doc.exists():
+            continue
+        in_code = False
+        for n, line in enumerate(doc.read_text().splitlines(), 1):
+            if line.startswith("```"):
+                in_code = not in_code
+            if in_code:
+                continue
+            for target in re.findall(r"\]\(([^)\s]+)\)", line):
+                if re.match(r"[a-z]+:", target):
+                    continue  # a web address
+                file, _, anchor = target.partition("#")
+                path = (doc.parent / file).resolve() if file else doc
+                if not path.exists():
+                    bad.append(f"{doc.relative_to(ROOT)}:{n}: no such file: {target}")
+                elif anchor and path.suffix == ".md" and anchor not in anchors(path):
+                    bad.append(f"{doc.relative_to(ROOT)}:{n}: no such heading: {target}")
+    return bad
+
+
 def main():
+    bad_links = broken_links()
+    for b in bad_links:
+        print(b, file=sys.stderr)
+    if bad_links:
+        sys.exit(f"guide_check: {len(bad_links)} broken link(s)")
     binary, python = tool_paths()
     chapters = [pathlib.Path(a).resolve() for a in sys.argv[1:]] or sorted(
         (ROOT / "docs/guide").glob("*.md"))
