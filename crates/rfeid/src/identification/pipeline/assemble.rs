@@ -47,7 +47,8 @@ pub(super) fn assemble(
     f: Found<'_>,
 ) -> IdentificationResult {
     let model = problem.model();
-    let cramer_rao = f.bounds.cramer_rao.as_ref().ok();
+    let bounds = f.bounds.cramer_rao.as_ref();
+    let cramer_rao = bounds.ok();
     let x = problem.to_physical(&f.best.u);
     let names: Vec<String> = problem.columns().iter().map(|c| c.name.clone()).collect();
     let parameters = estimates(problem, &x, cramer_rao);
@@ -78,12 +79,7 @@ pub(super) fn assemble(
         }),
         condition_number: cramer_rao.map(|c| c.condition_number),
         warnings,
-        uncertainty_error: f
-            .bounds
-            .cramer_rao
-            .as_ref()
-            .err()
-            .map(|e| e.describe(&names)),
+        uncertainty_error: bounds.err().map(|e| e.describe(&names)),
         method: settings.method,
         termination: f.best.stop,
         termination_message: f.best.stop.to_string(),
