@@ -1,7 +1,7 @@
 //! Campaigns on the command line (SPEC §5): a validation experiment left
 //! out of the fit, `rfeid validate`, and every campaign input mistake
 //! exiting 2 with file, entry and field named and no output written.
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! standard errors `identify` reports on seeded simulated data, the chosen
 //! sensors simulated, identified and compared with their prediction, and
 //! bad input exiting 2 with file, entry and field named.
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::collections::HashMap;

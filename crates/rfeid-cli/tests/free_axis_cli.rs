@@ -5,7 +5,7 @@
 //! and `design` failed before ("the tangent stiffness at equilibrium is
 //! singular"); gravity along the axis is bad input (exit 2) naming the
 //! carriage and the direction.
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use support::*;

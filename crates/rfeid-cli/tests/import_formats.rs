@@ -1,6 +1,6 @@
 //! `rfeid identify --data` with CSV, MAT and UFF files of the same signals
 //! gives the same estimates; a damaged file is bad input (exit 2, no output).
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

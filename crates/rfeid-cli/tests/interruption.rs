@@ -2,7 +2,7 @@
 //! result and the report are either both the complete old ones or both the
 //! complete new ones, and no temporary file is left.
 #![cfg(unix)]
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

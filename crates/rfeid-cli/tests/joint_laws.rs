@@ -4,7 +4,7 @@
 //! simulated with seeded noise and identified back (ν = 1, and ν = 1.5
 //! identified), and the feed axis simulated with seeded noise and
 //! identified back, for symmetric, asymmetric and Stribeck friction.
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::collections::HashMap;
@@ -112,8 +112,8 @@ fn simulate_at(model: &Path, est: &HashMap<String, (f64, f64)>, out: &Path) -> V
 /// on the sine sweep from rest at most 1e-5 m.
 ///
 /// Ignored in CI for its time (34 s on the 2-core machine, beside a build):
-/// run it with `cargo test --release -p rfeid-cli --test joint_laws --
-/// --ignored`.
+/// run it with `cargo test --release -p rfeid-cli --test integration --
+/// joint_laws:: --ignored`.
 #[test]
 #[ignore]
 fn the_bouc_wen_benchmark_is_identified_and_tested_by_simulation() {

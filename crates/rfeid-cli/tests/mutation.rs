@@ -3,7 +3,7 @@
 //! signal), with a documented exit status, and leaves no output and no
 //! temporary file after a non-zero exit. Bounded to a few seconds.
 #![cfg(unix)]
-mod support;
+use crate::support;
 
 use std::path::Path;
 use support::{oscillator_model, rfeid, scratch_dir, temporaries};

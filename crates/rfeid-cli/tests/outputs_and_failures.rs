@@ -4,7 +4,7 @@
 //! Set `RFEID_TEST_BIN` to run them against another build of `rfeid` (an
 //! older one, to see each test fail without its fix).
 #![cfg(unix)]
-mod support;
+use crate::support;
 
 use std::path::Path;
 use std::time::Duration;

@@ -1,5 +1,5 @@
 //! `--report`, `rfeid report`, `simulate --plot`, `--json` and `--quiet`.
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use support::{flat, identify, oscillator_model, rfeid, scratch_dir, simulate_csv};

@@ -3,7 +3,7 @@
 //! sized by them; shard counts beyond the plan are refused; a shard goes to
 //! `/dev/null` or a FIFO; a read-only output is refused, also as root; the
 //! Slurm variables of stepped or list arrays get a hint.
-mod support;
+use crate::support;
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};

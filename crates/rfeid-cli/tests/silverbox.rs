@@ -10,7 +10,7 @@
 //! noise model estimated from the residuals. Under model error that noise
 //! model is fitted to what is mostly misfit; the estimates must still
 //! predict the test window as output error's do.
-mod support;
+use crate::support;
 
 use rfeid::io::mat::read_mat_vectors;
 use serde_json::Value;

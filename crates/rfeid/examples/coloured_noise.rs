@@ -16,6 +16,8 @@
 //! verdicts should be suspect; its z-scores mean nothing).
 #[path = "../tests/coloured_cases/mod.rs"]
 mod coloured_cases;
+#[path = "../tests/wide_cases/mod.rs"]
+mod wide_cases;
 
 use coloured_cases::{coloured_data, default_settings, knee_column, rms, run, z_scores};
 use rfeid::identification::pipeline::NoiseModel;

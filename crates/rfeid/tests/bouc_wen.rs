@@ -2,7 +2,7 @@
 //! key against finite differences on both kernels (the internal state z
 //! integrated with the motion, and its sensitivities), and the closed-form
 //! end of a monotonic motion.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::model::Model;

@@ -2,7 +2,7 @@
 //! such as a force offset. On the single oscillator from rest it gives the
 //! step response A/k + the free motion from x0 = −A/k, which the simulation
 //! must match to rounding (the jump sits at t = 0, where the run starts).
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::parse_model;

@@ -24,7 +24,7 @@
 //! 2. the total energy's decay against its a-priori bound
 //!    `n_steps (ω_max h)⁶ / 72` with ω_max h = 0.108 (2.1e-4 over 1 s;
 //!    measured 9.4e-5, since not all the energy is in the fastest mode).
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, SymmetricEigen, Vector3};

@@ -13,7 +13,7 @@
 //! It is an honest reference for the time discretisation, which is what is
 //! tested here; the assembly of the equations is checked against an
 //! independent implementation in `knee_column_reference.rs`.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::parse_model;

@@ -19,7 +19,7 @@
 //!    sensitivity to c against the closed form's derivative.
 //! 5. The modal analysis reports the free mode first, at zero frequency,
 //!    named, and the other five modes as before.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::model::Model;

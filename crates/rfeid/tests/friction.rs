@@ -4,7 +4,7 @@
 //! crossed at every reversal), the limits it must reach (Coulomb plus
 //! viscous friction against the closed-form steady slide), and a law the
 //! model does not use changing nothing.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::model::Model;

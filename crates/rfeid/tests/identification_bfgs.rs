@@ -1,7 +1,7 @@
 //! The BFGS of eq. 20–25 (finite-difference gradients, line search, box) on
 //! test problems with exact answers, with iteration budgets.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod problems;
+use crate::problems;
 
 use nalgebra::{DMatrix, DVector};
 use problems::{

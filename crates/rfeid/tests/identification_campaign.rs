@@ -3,8 +3,7 @@
 //! model's values with 2 % seeded noise, fitted together at `rfeid
 //! identify`'s default settings (sum of eq. 16 over the experiments, the
 //! Cramér–Rao bounds of the stacked Jacobian, eq. 26–29).
-#[path = "wide_cases/mod.rs"]
-mod wide_cases;
+use crate::wide_cases;
 
 use nalgebra::DMatrix;
 use rfeid::identification::output_error::{ExperimentData, OutputError};

@@ -2,7 +2,7 @@
 //! an anti-alias filter leaves): standard errors that cover the estimates'
 //! errors, a trustworthy verdict on a correct model, and a suspect one on a
 //! wrong model.
-mod coloured_cases;
+use crate::coloured_cases;
 
 use coloured_cases::{coloured_data, default_settings, knee_column, rms, run, z_scores};
 use rfeid::identification::pipeline::NoiseModel;

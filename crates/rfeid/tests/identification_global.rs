@@ -6,7 +6,7 @@
 //! Measured: knee–column (2 bodies, m = 2, sine), one decade, seed 1:
 //! worst 1.95 (h_t2); tailstock (4 bodies, m = 1.5 and 2, multisine and a
 //! measured force), two decades, seed 3: worst 1.23 (a_n3).
-mod wide_cases;
+use crate::wide_cases;
 
 use wide_cases::{data, default_settings, example, run, widened, worst_z};
 

@@ -1,7 +1,7 @@
 //! Levenberg–Marquardt on test problems with exact answers, with iteration
 //! budgets (a change that doubles the work should fail here).
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod problems;
+use crate::problems;
 
 use problems::{
     exp_decay, linear, noisy_exp_decay, rosenbrock, to_normalised, Diverged, FnProblem, EXP_BOX,

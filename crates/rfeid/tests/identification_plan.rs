@@ -1,7 +1,7 @@
 //! LP_τ plans (eq. 18–19) against an independently generated table, and
 //! reproducible parallel plan evaluation.
 #![allow(clippy::needless_range_loop)] // index loops mirror the formulas
-mod problems;
+use crate::problems;
 
 use problems::{exp_decay, Diverged, FnProblem};
 use rfeid::identification::plan::{lp_tau_plan, LpTau, PlanError, MAX_DIMENSIONS};

@@ -2,7 +2,7 @@
 //! from y = A exp(−k t), an LP_τ plan, Levenberg–Marquardt (and BFGS) from
 //! the best plan point, then Cramér–Rao bounds: the estimates must land
 //! within 3 standard errors of the truth.
-mod problems;
+use crate::problems;
 
 use nalgebra::DMatrix;
 use problems::{to_physical, EXP_BOX, EXP_TRUE};

@@ -2,7 +2,7 @@
 //! between a wide box and the normalised coordinate, and what must not
 //! depend on the choice: J at a physical point, the Cramér–Rao standard
 //! errors at a physical point, and the estimate itself.
-mod common;
+use crate::common;
 
 use common::model;
 use nalgebra::DMatrix;

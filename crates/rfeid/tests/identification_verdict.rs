@@ -5,7 +5,7 @@
 //! the ground, a 5 kg slide on a second one), driven on the slide by a chirp
 //! and observed by two accelerometers: fast to simulate (500 samples), with
 //! known true values, and wrong in controlled ways.
-mod common;
+use crate::common;
 
 use common::model;
 use rfeid::identification::lm::LmSettings;

@@ -2,8 +2,8 @@
 //! sensors' sources (`data = { column | variable | record }`), the time
 //! axis of each format, and the acceptance: the same data read from
 //! CSV, .mat or UFF gives the same identification result.
-mod common;
-mod import_common;
+use crate::common;
+use crate::import_common;
 
 use import_common::*;
 use rfeid::identification::output_error::OutputError;

@@ -2,7 +2,7 @@
 //! (uncompressed, compressed, mixed classes): the same numbers as the CSV,
 //! bit for bit, and clear errors for everything that is not a real numeric
 //! vector or not a well-formed Level 5 file.
-mod import_common;
+use crate::import_common;
 
 use import_common::*;
 use rfeid::io::mat::{parse_mat, read_mat_vectors, MatClass, MatError};

@@ -4,8 +4,8 @@
 //! excitation signals alike; a variable that looks like a time axis under
 //! another name makes the instants ambiguous and is an error naming the file
 //! and the variable.
-mod common;
-mod import_common;
+use crate::common;
+use crate::import_common;
 
 use import_common::*;
 use rfeid::io::data_file::{read_measurement, DataFileError};

@@ -2,7 +2,7 @@
 //! fixture truncated at every byte, with seeded random bytes changed, and
 //! with each 4-byte word set to 0 and to 0xFFFFFFFF (sizes, counts and
 //! types at their extremes). Each run must return, `Ok` or `Err`.
-mod import_common;
+use crate::import_common;
 
 use import_common::*;
 use rand::{Rng, SeedableRng};

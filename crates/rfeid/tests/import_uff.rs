@@ -2,7 +2,7 @@
 //! ASCII and binary 58b, with datasets 151 and 164 to skip): the same
 //! numbers as the CSV, bit for bit, and errors that name the file, the
 //! record and the line for truncated, mistyped, complex or garbage input.
-mod import_common;
+use crate::import_common;
 
 use import_common::*;
 use rfeid::io::uff::{parse_uff58, read_uff58, Abscissa, OrdinateType, UffError};

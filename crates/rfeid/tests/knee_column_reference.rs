@@ -24,7 +24,7 @@
 //! one (the excitation is a sine, defined at every instant, not sampled).
 //! At every rate the default settings, steps chosen automatically for the
 //! default tolerance, must be within 1e-6 of it.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::load_model;

@@ -4,8 +4,8 @@
 //! read to exactly the samples of a clean CSV, hence the same estimates;
 //! decimal commas, other sample rates, stamps off the grid and force tables
 //! that stop inside the simulated time are errors that say so.
-mod common;
-mod import_common;
+use crate::common;
+use crate::import_common;
 
 use import_common::*;
 use rfeid::identification::output_error::OutputError;

@@ -5,7 +5,7 @@
 //! Unit conversion multiplies by powers of ten that are not exact in binary,
 //! so converted values are compared to 4 ulps (relative 1e-15); geometry
 //! that is written exactly is compared exactly.
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Matrix3, Vector3};

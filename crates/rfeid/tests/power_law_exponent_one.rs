@@ -7,7 +7,7 @@
 //! per operation, a different summation order, 2000 steps; measured
 //! 1e-15 to 3.4e-15, so 2e-14 keeps a margin of 6).
 //! The same holds for the sensitivities to a and to k.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::simulation::{Sensitivities, Simulator, Workspace};

@@ -3,7 +3,7 @@
 //! page must hold every section, sensor and parameter, be self-contained,
 //! inline well-formed SVG figures that are also written as files, and stay
 //! under 300 KB.
-mod report_support;
+use crate::report_support;
 
 use report_support::{assert_self_contained, check_svg, inline_svgs, knee_column};
 use rfeid::identification::output_error::OutputError;

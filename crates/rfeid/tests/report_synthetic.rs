@@ -2,7 +2,7 @@
 //! and their absence are shown, a result without standard errors still
 //! renders, sizes that disagree are refused, user text is escaped, and a
 //! large plan keeps the page small.
-mod report_support;
+use crate::report_support;
 
 use report_support::{
     assert_self_contained, check_svg, inline_svgs, knee_column, synthetic_result, synthetic_signals,

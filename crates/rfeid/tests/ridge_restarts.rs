@@ -8,7 +8,7 @@
 //! a body of 11 kg (model error: no stiffness or damping fits them, so every
 //! end fails the checks). The ridge: the spring is split into two springs
 //! in parallel, `k1a` and `k1b`, which act only as their sum.
-mod common;
+use crate::common;
 
 use common::model;
 use rfeid::identification::output_error::OutputError;

@@ -12,7 +12,7 @@
 //! to rounding: 1e-13 of their peak. Rounding of order ε ≈ 1e-16 in the
 //! geometry, carried through 2000 integration steps, gives the measured
 //! 1.2e-14 to 1.8e-14 (worst of five motions); 1e-13 leaves a factor 5.
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3, Vector4};

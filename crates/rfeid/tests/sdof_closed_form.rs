@@ -17,7 +17,7 @@
 //! same step is at rounding level (its truncation error, `(ω h)⁸`-like, is
 //! below 1e-16), so it is checked to 1e-12: accumulated rounding over 5000
 //! steps is about √5000 · ε ≈ 1e-14, and 1e-12 leaves a factor 100.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::simulation::tableau::{DOP853, RK4};

@@ -4,7 +4,7 @@
 //! plan ranking and the same minimum as an identification at the chosen
 //! steps throughout; a plan point that the fewer steps cannot simulate is
 //! evaluated at the chosen ones.
-mod common;
+use crate::common;
 
 use common::{model, simulate_nominal};
 use nalgebra::DMatrix;

@@ -23,8 +23,8 @@
 //! m: the response depends on it through `|δ|^m` with |ln δ| ≈ 13 and through
 //! the shift of a 570 Hz mode accumulated over 0.15 s (x ∂ phase/∂x ≈ 3000
 //! rad), so its natural relative scale is ~3e-4 and its step is 1e-5 m.
-mod common;
-mod machine_tool;
+use crate::common;
+use crate::machine_tool;
 
 use common::*;
 use rfeid::io::model_file::load_model;

@@ -1,8 +1,8 @@
 //! Sensitivities to many parameters are integrated in groups of
 //! columns in parallel (issue 12, `simulation::columns`): the result does
 //! not depend on the number of threads, nor on the grouping, bit for bit.
-mod common;
-mod machine_tool;
+use crate::common;
+use crate::machine_tool;
 
 use common::model;
 use rfeid::model::Model;

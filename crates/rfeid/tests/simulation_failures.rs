@@ -8,7 +8,7 @@
 //! step multiplies the motion by `|P(100i)| ≈ 100⁴/24 ≈ 4e6`: the state
 //! overflows within the first samples, and the run must stop there, not
 //! integrate the remaining 100 s of record.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::model::Model;

@@ -14,7 +14,7 @@
 //! accelerations were small differences of weight-sized forces and the
 //! kernels differed by 2.0e-12 to 7.5e-12.
 
-mod machine_tool;
+use crate::machine_tool;
 
 use machine_tool::machine_tool_toml;
 use rfeid::io::model_file::{load_model, parse_model};

@@ -29,8 +29,8 @@
 //! A run starts from the equilibrium and displacement sensors read from it,
 //! so without excitation every reading stays at rounding level; and for
 //! linear springs gravity changes nothing else (superposition).
-mod common;
-mod machine_tool;
+use crate::common;
+use crate::machine_tool;
 
 use common::*;
 use machine_tool::machine_tool_toml;

@@ -2,7 +2,7 @@
 //! (2e9 and 6e9 N/m), whose fastest modes move far up. At default settings
 //! the automatic steps must keep it within 1e-6 of a converged fine-step run
 //! (rfeid at 64 steps per sample, checked against 128), quickly.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::parse_model;

@@ -10,7 +10,7 @@
 //! initial values. The kinks sit on integration step boundaries, so DOP853
 //! keeps its order and matches to rounding: 1e-12 of the peak (measured
 //! ~1e-14).
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::load_model;

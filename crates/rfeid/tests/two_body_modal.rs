@@ -17,7 +17,7 @@
 //! `ω t (ω h)⁴ / 120` for the faster mode (ω₂ = 473 rad/s, h = 5e-5 s,
 //! t = 0.25 s: 3.1e-7). It does better (7e-9) because the response is
 //! mostly the forced motion at 45 Hz, not the free modes whose phase drifts.
-mod common;
+use crate::common;
 
 use common::*;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};

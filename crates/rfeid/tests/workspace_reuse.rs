@@ -3,7 +3,7 @@
 //! over from a different model, a different parameter set or a failed run
 //! must not change the next result, which is bit for bit that of fresh
 //! buffers, with buffers of exactly the right size.
-mod common;
+use crate::common;
 
 use common::*;
 use rfeid::io::model_file::load_model;

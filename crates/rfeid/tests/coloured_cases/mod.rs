@@ -4,8 +4,7 @@
 //! whole `rfeid identify` pipeline at its defaults run on it; shared by
 //! `tests/identification_coloured_noise.rs` and `examples/coloured_noise.rs`.
 #![allow(dead_code)]
-#[path = "../wide_cases/mod.rs"]
-mod wide_cases;
+use crate::wide_cases;
 
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::add_filtered_noise;

@@ -1,0 +1,24 @@
+//! The integration tests of the command line, one module per file, built as one
+//! test binary (one link instead of one per file, and the harness
+//! spreads every test over the cores). Run one file's tests with
+//! `cargo test --release -p rfeid-cli --test integration -- FILE::`.
+
+// Helpers shared by the files.
+mod support;
+
+// The tests, one module per file.
+mod bad_input;
+mod campaign_cli;
+mod design_cli;
+mod free_axis_cli;
+mod identify_set_start;
+mod import_formats;
+mod interruption;
+mod joint_laws;
+mod mutation;
+mod outputs_and_failures;
+mod report_and_output;
+mod shard_files;
+mod shards;
+mod silverbox;
+mod verdict_exit;
