@@ -142,8 +142,9 @@ pub struct ExperimentSummary {
     #[serde(default)]
     pub fits: Vec<Option<f64>>,
     /// The integrator's steps per sample for this experiment, and their
-    /// estimated error at the estimate (`None` for a validation experiment
-    /// and in results written before they were recorded).
+    /// estimated error at the estimate (a validation experiment's at the
+    /// steps it was simulated with; `None` in results written before they
+    /// were recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steps: Option<crate::simulation::StepChoice>,
 }
@@ -190,9 +191,10 @@ pub struct IdentificationResult {
     pub termination_message: String,
     /// Iterations of the local search that gave the estimate.
     pub iterations: usize,
-    /// Simulations run, all phases.
+    /// Simulations of the response alone, all phases.
     pub simulations: usize,
-    /// Of those, simulations with sensitivities.
+    /// Simulations with sensitivities (a Jacobian), counted apart from
+    /// `simulations`.
     pub simulations_with_sensitivities: usize,
     /// Simulations that failed (recorded, not fatal).
     pub failed_simulations: usize,
