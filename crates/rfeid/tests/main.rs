@@ -70,22 +70,26 @@ mod table_signal;
 mod two_body_modal;
 mod workspace_reuse;
 
-/// Every file of `tests/` is one of the modules above: a file without its
-/// `mod` line would be compiled by nothing and its tests never run.
+/// Every file of each crate's `tests/` (this one's and the command line's)
+/// is a module of that crate's `tests/main.rs`: a file without its `mod`
+/// line would be compiled by nothing and its tests never run.
 #[test]
-fn every_test_file_is_a_module_of_this_binary() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
-    let main = std::fs::read_to_string(dir.join("main.rs")).unwrap();
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
-        let is_helper = path.join("mod.rs").exists();
-        let is_test = path.extension().is_some_and(|e| e == "rs") && stem != "main";
-        if is_helper || is_test {
-            assert!(
-                main.contains(&format!("\nmod {stem};\n")),
-                "tests/main.rs does not declare `mod {stem};`"
-            );
+fn every_test_file_is_a_module_of_its_binary() {
+    let here = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for dir in [here.join("tests"), here.join("../rfeid-cli/tests")] {
+        let main = std::fs::read_to_string(dir.join("main.rs")).unwrap();
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+            let is_helper = path.join("mod.rs").exists();
+            let is_test = path.extension().is_some_and(|e| e == "rs") && stem != "main";
+            if is_helper || is_test {
+                assert!(
+                    main.contains(&format!("\nmod {stem};\n")),
+                    "{}/main.rs does not declare `mod {stem};`",
+                    dir.display()
+                );
+            }
         }
     }
 }

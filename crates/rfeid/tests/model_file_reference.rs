@@ -139,30 +139,27 @@ fn page() -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-#[test]
-fn every_key_the_reader_accepts_is_documented_and_no_other() {
+/// Each probe's list, read from the reader's refusal by `list`, against
+/// the page's table after `<!-- kind: NAME -->`.
+fn compare(kind: &str, probes: Vec<(&str, String)>, list: fn(&str) -> BTreeSet<String>) {
     let page = page();
-    for (table, text) in key_probes() {
-        let accepted = accepted_keys(&refusal(&text));
-        assert!(accepted.len() >= 3, "{table}: {accepted:?}");
-        let listed = documented(&page, "keys", table);
+    for (name, text) in probes {
+        let reader = list(&refusal(&text));
+        assert!(reader.len() >= 3, "{name}: {reader:?}");
+        let listed = documented(&page, kind, name);
         assert_eq!(
-            listed, accepted,
-            "docs/reference/model-file.md, keys of {table}: documented (left) against accepted (right)"
+            listed, reader,
+            "docs/reference/model-file.md, {kind} of {name}: documented (left) against the reader's (right)"
         );
     }
 }
 
 #[test]
+fn every_key_the_reader_accepts_is_documented_and_no_other() {
+    compare("keys", key_probes(), accepted_keys);
+}
+
+#[test]
 fn every_law_signal_type_and_quantity_is_documented_and_no_other() {
-    let page = page();
-    for (list, text) in value_probes() {
-        let known = known_names(&refusal(&text));
-        assert!(known.len() >= 3, "{list}: {known:?}");
-        let listed = documented(&page, "values", list);
-        assert_eq!(
-            listed, known,
-            "docs/reference/model-file.md, names of {list}: documented (left) against known (right)"
-        );
-    }
+    compare("values", value_probes(), known_names);
 }
