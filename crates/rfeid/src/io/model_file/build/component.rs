@@ -53,16 +53,22 @@ fn law_name(rc: &RawComponent) -> String {
 fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     let rc = comp.raw();
     let name = law_name(rc);
-    const KNOWN: [&str; 5] = ["linear", "power", "friction", "bouc-wen", "none"];
-    if !KNOWN.contains(&name.as_str()) {
-        // Named first: a misspelt law is not a home for misplaced keys.
-        return Err(ctx.err(
-            rc.law.as_ref().map(|l| l.span()),
-            &comp.entry,
-            "law",
-            format!("unknown law '{name}' (linear, power, friction or bouc-wen)"),
-        ));
-    }
+    // Named first: a misspelt law is not a home for misplaced keys.
+    let build: fn(&mut Ctx, &Comp) -> Result<Law> = match name.as_str() {
+        "linear" => linear_law,
+        "power" => power_law,
+        "friction" => friction_law,
+        "bouc-wen" => bouc_wen_law,
+        "none" => damper_only,
+        other => {
+            return Err(ctx.err(
+                rc.law.as_ref().map(|l| l.span()),
+                &comp.entry,
+                "law",
+                format!("unknown law '{other}' (linear, power, friction or bouc-wen)"),
+            ))
+        }
+    };
     if name != "friction" {
         for (v, field) in friction_keys(rc) {
             forbid(ctx, v, field, &name, &comp.entry)?;
@@ -73,25 +79,22 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
             forbid(ctx, v, field, &name, &comp.entry)?;
         }
     }
-    match name.as_str() {
-        "linear" => linear_law(ctx, comp),
-        "power" => power_law(ctx, comp),
-        "friction" => friction_law(ctx, comp),
-        "bouc-wen" => bouc_wen_law(ctx, comp),
-        "none" => {
-            forbid(ctx, &rc.reference, "reference", "none", &comp.entry)?;
-            if rc.c.is_none() {
-                return Err(ctx.err(
-                    Some(comp.c.span()),
-                    &comp.entry,
-                    "law",
-                    "the component has neither a spring (k, or a and m) nor damping (c)",
-                ));
-            }
-            Ok(Law::None)
-        }
-        other => unreachable!("law '{other}' was checked above"),
+    build(ctx, comp)
+}
+
+/// No spring: a damper `c` alone (a direction free of springs).
+fn damper_only(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
+    let rc = comp.raw();
+    forbid(ctx, &rc.reference, "reference", "none", &comp.entry)?;
+    if rc.c.is_none() {
+        return Err(ctx.err(
+            Some(comp.c.span()),
+            &comp.entry,
+            "law",
+            "the component has neither a spring (k, or a and m) nor damping (c)",
+        ));
     }
+    Ok(Law::None)
 }
 
 /// The friction law's own keys, with their names.
