@@ -22,6 +22,7 @@ mod design;
 mod energy_free_vibration;
 mod excitation_breakpoints;
 mod free_axis;
+mod frf;
 mod friction;
 mod identification_bfgs;
 mod identification_campaign;
