@@ -164,13 +164,13 @@ fn check_derivatives(model: &Model, frequencies: &[f64]) {
         };
         let stencil = [(-2.0, 1.0), (-1.0, -8.0), (1.0, 8.0), (2.0, -1.0)];
         let runs: Vec<_> = stencil.iter().map(|(s, w)| (at(*s), *w)).collect();
-        for pair in 0..exact.values.len() {
+        for (pair, scale) in scale.iter().enumerate() {
             // The largest |∂H/∂x_j| over the frequencies, or for a parameter
             // H barely depends on, a thousandth of |H| per its size.
             let dmax = (0..frequencies.len())
                 .map(|k| exact.derivatives[pair][k * wrt.len() + j].norm())
-                .fold(1e-3 * scale[pair] / size, f64::max);
-            for k in 0..frequencies.len() {
+                .fold(1e-3 * scale / size, f64::max);
+            for (k, f) in frequencies.iter().enumerate() {
                 let fd = runs
                     .iter()
                     .map(|(r, w)| r.values[pair][k] * *w)
@@ -181,9 +181,8 @@ fn check_derivatives(model: &Model, frequencies: &[f64]) {
                 worst = worst.max(err);
                 assert!(
                     err < 1e-6,
-                    "{}: pair {pair}, {} Hz: exact {d}, difference {fd}",
+                    "{}: pair {pair}, {f} Hz: exact {d}, difference {fd}",
                     model.parameters[p].name,
-                    frequencies[k]
                 );
             }
         }
@@ -267,7 +266,7 @@ fn knee_column_frf_is_the_steady_state_of_small_sines() {
         let mut out = sim.response_buffer();
         sim.run(&model.nominal(), &mut Workspace::default(), &mut out)
             .unwrap();
-        for s in 0..outputs.len() {
+        for (s, output) in outputs.iter().enumerate() {
             let h = frf.values[frf.pair(0, s)][k];
             if h.norm() < 0.05 * max_norm(&frf.values[frf.pair(0, s)]) {
                 continue;
@@ -281,7 +280,7 @@ fn knee_column_frf_is_the_steady_state_of_small_sines() {
             assert!(
                 mag < 5e-3 && phase < 0.5,
                 "{} at {f:.2} Hz: magnitude off by {:.3} %, phase by {phase:.3}°",
-                outputs[s].name,
+                output.name,
                 100.0 * mag
             );
         }

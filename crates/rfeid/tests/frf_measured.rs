@@ -60,8 +60,14 @@ fn h1_equals_the_model_frf_within_its_random_error_where_coherent() {
     let (mut worst, mut square) = (0.0_f64, 0.0_f64);
     for s in 0..outputs.len() {
         let measured = h1(&force, out.sensor(s), RATE, SEGMENT).unwrap();
-        let frf = model_frf(&model, &model.nominal(), &[], &outputs, &measured.frequencies)
-            .unwrap();
+        let frf = model_frf(
+            &model,
+            &model.nominal(),
+            &[],
+            &outputs,
+            &measured.frequencies,
+        )
+        .unwrap();
         for (k, h) in frf.values[frf.pair(0, s)].iter().enumerate() {
             if measured.coherence[k] <= 0.9 {
                 low += 1;

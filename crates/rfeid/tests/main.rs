@@ -23,6 +23,7 @@ mod energy_free_vibration;
 mod excitation_breakpoints;
 mod free_axis;
 mod frf;
+mod frf_coverage;
 mod frf_measured;
 mod friction;
 mod identification_bfgs;

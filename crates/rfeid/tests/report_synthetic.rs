@@ -218,7 +218,9 @@ fn a_large_plan_and_long_record_keep_the_page_small() {
         write_report(&tmp("report_large_plan"), &input(&model, &result, &d, None)).expect("writes");
     let html = std::fs::read_to_string(&files.html).expect("written");
     eprintln!("large case: {} KB", html.len() / 1024);
-    assert!(html.len() < 300 * 1024, "{} bytes", html.len());
+    // 300 KB before the frequency-response section's three figures
+    // (about 25 KB each, their curves thinned to the pixel columns).
+    assert!(html.len() < 380 * 1024, "{} bytes", html.len());
     for s in inline_svgs(&html) {
         check_svg(s);
     }

@@ -54,6 +54,9 @@ pub struct Linearised {
     pub at_equilibrium: bool,
     /// For each parameter asked for, its terms.
     pub derivatives: Vec<Vec<Term>>,
+    /// The power-law components with zero slope at the point (which add
+    /// no stiffness there), as `element/component`.
+    pub zero_slope: Vec<String>,
 }
 
 /// Linearises `model` at the parameter values `params` (all of them), at
@@ -98,7 +101,25 @@ pub fn linearise(
         loads: sim.structure().loads.clone(),
         at_equilibrium: model.gravity.is_some(),
         derivatives,
+        zero_slope: zero_slope(&sys, &q0),
     })
+}
+
+/// The power-law components with zero slope at `q0`.
+fn zero_slope(sys: &System<'_>, q0: &[f64]) -> Vec<String> {
+    let comps = &sys.structure.components;
+    comps
+        .iter()
+        .filter(|c| {
+            c.law
+                .power_spring(&sys.params)
+                .is_some_and(|s| power_slope(s.coef, s.m, c.row.dot(q0)) == 0.0)
+        })
+        .map(|c| {
+            let el = &sys.model.elements[c.element].name;
+            format!("{el}/{}", crate::model::COMPONENT_NAMES[c.dof])
+        })
+        .collect()
 }
 
 /// The small-motion stiffness and damping that a law adds to the tangent

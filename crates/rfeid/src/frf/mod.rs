@@ -8,21 +8,28 @@
 //! - [`band`]: 95 % bands from the estimate's Cramér–Rao covariance
 //!   (eq. 26–29) by the delta method;
 //! - [`measured`]: H1 and the coherence from a measured force and response;
-//! - [`estimate`]: a result's estimate and covariance for one experiment.
+//! - [`grid`]: the frequencies, fine enough for the sharpest resonance;
+//! - [`estimate`]: a result's estimate and covariance for one experiment;
+//! - [`study`]: all of it for the chosen pairs, as the command line and
+//!   Python show it.
 //!
 //! A nonlinear joint's FRF is that of its linearisation: valid for motions
 //! small against the deformations that change its slope.
 pub mod band;
 pub mod estimate;
+pub mod grid;
 pub mod linear;
 pub mod measured;
 pub mod response;
+pub mod study;
 
 pub use band::{band, Band, Z95};
 pub use estimate::{at_estimate, AtEstimate};
+pub use grid::{grid, Spacing};
 pub use linear::{linearise, Linearised};
 pub use measured::{default_segment, h1, MeasuredFrf};
 pub use response::{frf, Frf, Output, C64};
+pub use study::{frf_unit, study, DataSet, FrfRequest, FrfStudy};
 
 /// Why an FRF could not be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

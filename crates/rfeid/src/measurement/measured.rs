@@ -75,3 +75,33 @@ fn matched(
         notes,
     })
 }
+
+/// Reads `model`'s sensors' signals and one more, `force` (an excitation's
+/// measured force, for an FRF's H1), from the data file at `path` on the
+/// model's sampling, with the checks of [`measured_from_file`]: the
+/// sensors' signals and the force's samples. A model without sensors
+/// reads the force alone.
+pub fn measured_with_force(
+    path: &Path,
+    model: &Model,
+    force: &crate::model::DataSource,
+) -> Result<(Measured, Vec<f64>), MeasuredError> {
+    let mut with = model.clone();
+    let probe = crate::model::Sensor {
+        name: force.to_string(),
+        body: 0,
+        at: nalgebra::Vector3::zeros(),
+        direction: nalgebra::Vector3::x(),
+        kind: crate::model::SensorKind::Displacement,
+        data: force.clone(),
+        gain: crate::model::Value::Fixed(1.0),
+        offset: crate::model::Value::Fixed(0.0),
+        noise: None,
+    };
+    with.sensors.push(probe);
+    let mut m = measured_from_file(path, &with)?;
+    let r = &mut m.response;
+    let force = r.values.split_off((r.n_sensors - 1) * r.n_samples);
+    r.n_sensors -= 1;
+    Ok((m, force))
+}

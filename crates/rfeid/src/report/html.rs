@@ -610,6 +610,13 @@ pub(crate) fn page(input: &ReportInput, figs: &[Figure]) -> String {
     figures_of(&mut out, figs, "residuals");
     out.push_str("</section>\n");
 
+    section(&mut out, "frf");
+    match figs.iter().any(|f| f.section == "frf") {
+        true => figures_of(&mut out, figs, "frf"),
+        false => out.push_str(&format!("<p>{}</p>\n", escape(super::frf::LEFT_OUT))),
+    }
+    out.push_str("</section>\n");
+
     section(&mut out, "plan");
     plan_text(&mut out, r);
     figures_of(&mut out, figs, "plan");

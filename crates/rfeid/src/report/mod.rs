@@ -31,6 +31,7 @@ mod correlation;
 mod decimate;
 pub mod design;
 mod fmt;
+pub mod frf;
 mod history;
 mod html;
 mod intervals;
@@ -114,12 +115,13 @@ pub enum ReportError {
 }
 
 /// The section headings of the page, in order, with their anchors.
-pub const SECTIONS: [(&str, &str); 9] = [
+pub const SECTIONS: [(&str, &str); 10] = [
     ("summary", "Summary"),
     ("warnings", "Identifiability warnings"),
     ("parameters", "Parameters"),
     ("response", "Measured and model response"),
     ("residuals", "Residuals"),
+    ("frf", "Frequency response"),
     ("plan", "LP_τ plan"),
     ("history", "Local search history"),
     ("correlation", "Correlation of the estimates"),
@@ -237,6 +239,7 @@ pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
         svg: signals::residual_figure(input.time, &channels, r.from),
     });
     out.extend(spectrum_figures(input, &channels));
+    out.extend(frf::report_figures(input));
     out.push(Figure {
         file: "plan.svg".into(),
         section: "plan",

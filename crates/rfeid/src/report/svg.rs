@@ -199,6 +199,17 @@ impl Svg {
         );
     }
 
+    /// A closed area with the given `d` attribute, filled and not stroked.
+    pub fn area(&mut self, d: &str, fill: &str) {
+        if d.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            self.body,
+            "<path d=\"{d}z\" fill=\"{fill}\" stroke=\"none\"/>"
+        );
+    }
+
     /// A marker of `size` px (its half-width) at (x, y).
     pub fn marker(&mut self, m: Marker, x: f64, y: f64, size: f64, colour: &str) {
         let (xs, ys, s) = (num(x), num(y), size);
