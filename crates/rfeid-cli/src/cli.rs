@@ -63,6 +63,11 @@ pub enum Command {
     /// Natural frequencies, damping ratios and mode shapes of the linearised model.
     #[command(after_help = "Example:\n  rfeid modal examples/knee-column/model.toml")]
     Modal(ModalArgs),
+    /// Frequency response functions of the linearised model, with a 95 % band from a result and the measured H1 and coherence.
+    #[command(
+        after_help = "The model is linearised at rest, or at its static equilibrium under gravity (as for `modal`): a nonlinear joint's FRF holds for small motions about that point.\n\nExamples:\n  rfeid frf examples/knee-column/model.toml --plot frf.svg\n  rfeid frf examples/knee-column/model.toml --result RESULT.json --data data.csv -o frf.csv --plot frf.svg\n  rfeid frf examples/knee-column/model.toml --at tool=knee@0.1,0.9,0.8/0,0,1"
+    )]
+    Frf(FrfArgs),
 }
 
 /// `rfeid check`.
@@ -173,6 +178,87 @@ pub struct ModalArgs {
     /// Also write frequencies, damping ratios and mode shapes to this JSON file (`-` for standard output).
     #[arg(long = "json-file", value_name = "FILE")]
     pub json_file: Option<PathBuf>,
+}
+
+/// What a point given with `frf --at` reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Quantity {
+    /// Displacement: the dynamic compliance, m/N.
+    Displacement,
+    /// Velocity: the mobility, (m/s)/N.
+    Velocity,
+    /// Acceleration: the accelerance, (m/s²)/N.
+    Acceleration,
+}
+
+/// How `frf`'s grid is spaced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SpacingArg {
+    /// Evenly in log f (a Bode plot's).
+    Log,
+    /// Evenly in f.
+    Linear,
+}
+
+/// `rfeid frf`.
+#[derive(Debug, Args)]
+pub struct FrfArgs {
+    /// The model file (TOML).
+    pub model: PathBuf,
+    /// RESULT.json of `rfeid identify`: the FRFs at its estimate, with a 95 % band from its standard errors and correlations (delta method); its `--set` values are applied again.
+    #[arg(long)]
+    pub result: Option<PathBuf>,
+    /// Measured data (CSV, MAT or UFF) on the model's sensors and sampling: each sensor's measured FRF (H1, Welch with Hann windows) and coherence, from the excitation's signal (a measured-force table, or the model's own signal).
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// The --data column (or variable, or record name) holding the excitation's measured force, for H1; the excitation is --excitation's, or the model's only one. Default: the excitation's own signal in the model.
+    #[arg(long, value_name = "COLUMN", requires = "data")]
+    pub force: Option<String>,
+    /// One [[experiment]] of the model file: its settings, and without --data its data. Without it, a campaign's every experiment is measured over the model (each force level's H1 in turn).
+    #[arg(long, value_name = "NAME")]
+    pub experiment: Option<String>,
+    /// The excitation the FRFs are from (default: every one of the model's).
+    #[arg(long, value_name = "NAME")]
+    pub excitation: Option<String>,
+    /// Only the FRFs to this sensor (repeatable; default: every sensor).
+    #[arg(long, value_name = "NAME")]
+    pub sensor: Vec<String>,
+    /// Also the FRF to a point: NAME=BODY@X,Y,Z/DX,DY,DZ, the point in global metres and the direction as global components (repeatable), e.g. tool=knee@0.1,0.9,0.8/0,0,1.
+    #[arg(long, value_name = "NAME=BODY@X,Y,Z/DX,DY,DZ")]
+    pub at: Vec<String>,
+    /// What the --at points read.
+    #[arg(long, value_enum, default_value = "displacement")]
+    pub quantity: Quantity,
+    /// Highest frequency, Hz (default: the Nyquist frequency of the model's sampling).
+    #[arg(long, value_name = "HZ")]
+    pub fmax: Option<f64>,
+    /// Lowest frequency, Hz (default: a tenth of the lowest mode's on a log grid, fmax / points on a linear one).
+    #[arg(long, value_name = "HZ")]
+    pub fmin: Option<f64>,
+    /// Frequencies on the model's grid, 2 to 100 000 (default: four in the half-power band of the sharpest mode on a log grid, 200 to 20 000; 1000 on a linear one). With one data set, Welch's grid is used instead, so that model and H1 share each row.
+    #[arg(long, value_name = "N")]
+    pub points: Option<usize>,
+    /// How the model's grid is spaced.
+    #[arg(long, value_enum, default_value = "log")]
+    pub spacing: SpacingArg,
+    /// Samples per Welch segment for H1, a power of two (default: the longest that gives 16 averages).
+    #[arg(long, value_name = "N")]
+    pub segment: Option<usize>,
+    /// Use the data from this time in seconds (default: the experiment's `from`, else 0).
+    #[arg(long, value_name = "S")]
+    pub from: Option<f64>,
+    /// Set a parameter (repeatable), as for `simulate`; with --result, only parameters it did not identify.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Write the FRFs as CSV, one row per pair, curve and frequency (`-` for standard output).
+    #[arg(short, long, value_name = "FILE.csv")]
+    pub output: Option<PathBuf>,
+    /// Write the FRFs as JSON (`-` for standard output).
+    #[arg(long = "json-file", value_name = "FILE")]
+    pub json_file: Option<PathBuf>,
+    /// Plot magnitude (log), phase and coherence of every pair to this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
 }
 
 /// The integrator's accuracy, for every command that simulates.

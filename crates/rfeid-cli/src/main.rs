@@ -23,6 +23,7 @@ fn main() -> ExitCode {
         cli::Command::Check(a) => commands::check::run(a, &ui),
         cli::Command::Simulate(a) => commands::simulate::run(a, &ui),
         cli::Command::Modal(a) => commands::modal::run(a, &ui),
+        cli::Command::Frf(a) => commands::frf::run(a, &ui),
         cli::Command::Design(a) => commands::design::run(a, &ui),
         cli::Command::Identify(a) => commands::identify::run(a, &ui),
         cli::Command::Demo(a) => commands::demo::run(a, &ui),

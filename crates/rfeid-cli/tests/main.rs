@@ -13,6 +13,7 @@ mod bad_input;
 mod campaign_cli;
 mod design_cli;
 mod free_axis_cli;
+mod frf_cli;
 mod identify_set_start;
 mod import_formats;
 mod interruption;

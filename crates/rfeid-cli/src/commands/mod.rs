@@ -3,6 +3,7 @@
 pub mod check;
 pub mod demo;
 pub mod design;
+pub mod frf;
 pub mod identify;
 pub mod merge;
 pub mod modal;

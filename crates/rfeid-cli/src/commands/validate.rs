@@ -6,6 +6,7 @@ use crate::cli::ValidateArgs;
 use crate::diagnostics::Failure;
 use crate::format::table;
 use crate::outputs::Plan;
+use crate::run::belongs::check_belongs;
 use crate::run::digest::changed_input;
 use crate::run::estimate::simulate_at_estimate;
 use crate::run::experiments::experiment_data;
@@ -14,7 +15,6 @@ use crate::run::report::{read_result, render_fitted};
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::measurement::fit_percent;
-use rfeid::model::ColumnName;
 use rfeid::model::{Model, Role};
 use rfeid::simulation::Response;
 use serde::Serialize;
@@ -46,7 +46,7 @@ struct Fits {
 pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     let result = read_result(&args.result)?;
     let model = fixed(load(&args.model, ui)?, &result.source.set)?;
-    check_belongs(&model, &result, &args)?;
+    check_belongs(&model, &result, &args.model, &args.result)?;
     if let Some((path, what)) =
         changed_input(result.source.digests.as_ref(), &args.model, &model, None)?
     {
@@ -207,51 +207,6 @@ fn cases(model: &Model, args: &ValidateArgs, ui: &Ui) -> Result<Vec<Case>, Failu
             args.model.display()
         ))),
     }
-}
-
-/// The result must be of this model: every estimated parameter (by name,
-/// `name[experiment]` for one identified per experiment) must be one of its
-/// parameters.
-fn check_belongs(
-    model: &Model,
-    result: &IdentificationResult,
-    args: &ValidateArgs,
-) -> Result<(), Failure> {
-    let refuse = |what: String| {
-        Err(Failure::input_msg(format!(
-            "{}: field 'parameters': {what}",
-            args.result.display()
-        )))
-    };
-    for (k, p) in result.parameters.iter().enumerate() {
-        let Ok(column) = p.name.parse::<ColumnName>();
-        if model.parameter_index(&column.name).is_none() {
-            return refuse(format!(
-                "'{}' is not a parameter of {}: the result belongs to another model",
-                p.name,
-                args.model.display()
-            ));
-        }
-        if result.parameters[..k].iter().any(|q| q.name == p.name) {
-            return refuse(format!("'{}' is listed twice", p.name));
-        }
-    }
-    // The other direction: every parameter the model identifies has its
-    // estimate in the result (else it would be simulated at its nominal value).
-    for q in model.parameters.iter().filter(|q| q.bounds.is_some()) {
-        let held = result
-            .parameters
-            .iter()
-            .any(|p| p.name.parse::<ColumnName>().is_ok_and(|c| c.name == q.name));
-        if !held {
-            return refuse(format!(
-                "'{}', identified in {}, has no estimate: the result belongs to another model, or was edited",
-                q.name,
-                args.model.display()
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// What the data of `case` are called in the report's title.

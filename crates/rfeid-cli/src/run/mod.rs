@@ -7,12 +7,14 @@
 //!   plan);
 //! - search set-up: [`limits`], [`search`], [`progress`];
 //! - computing beside the search: [`estimate`] (a model at the estimate);
+//! - a result of this model: [`belongs`];
 //! - inputs unchanged: [`digest`] (what RESULT.json records of its files);
 //! - failures: [`failures`] (library errors as exit statuses);
 //! - designs: [`design_text`] (the table and JSON of `rfeid design`);
 //! - results: [`show`] and [`verdict_text`] (the tables and notes),
 //!   [`report`] (report files), [`closing`] (the closing sequence of
 //!   `identify`, `demo` and `merge`).
+pub mod belongs;
 pub mod closing;
 pub mod demo_case;
 pub mod design_text;
