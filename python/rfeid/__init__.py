@@ -53,6 +53,7 @@ __all__ = [
     "Parameter",
     "Simulation",
     "Identification",
+    "Frf",
     "Verdict",
     "identify",
     "design",
@@ -564,6 +565,29 @@ class Identification:
         ``OSError``). Returns report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
 
+    def frf(
+        self,
+        fmin: Optional[float] = None,
+        fmax: Optional[float] = None,
+        points: Optional[int] = None,
+        spacing: str = "log",
+        segment: Optional[int] = None,
+        measured: bool = True,
+    ) -> "Frf":
+        """FRFs of the model linearised at rest (or at its static
+        equilibrium under gravity) at the estimate, from each excitation to
+        each sensor, with the 95 % band from the estimate's covariance
+        (delta method, exact derivatives), and with ``measured`` the H1 and
+        coherence of the identification's data (Welch, ``segment`` samples
+        per segment, a power of two; default: 16 averages).
+
+        Frequencies in Hz from ``fmin`` to ``fmax`` (default: the Nyquist
+        frequency), ``points`` of them (default: four in the half-power band
+        of the sharpest mode), ``spacing`` ``"log"`` or ``"linear"``.
+        Returns an :class:`Frf`; bad values raise ``ValueError``."""
+        text, svg = self._native.frf(fmin, fmax, points, spacing, segment, measured)
+        return Frf(json.loads(text), svg)
+
     def _rows(self) -> List[Tuple[str, str, str, str, str]]:
         rows = []
         for p in self.document["parameters"]:
@@ -604,6 +628,112 @@ class Identification:
             f"<p><b>rfeid identification</b>: verdict <b>{html.escape(v.outcome)}</b></p>"
             "<table><tr><th>parameter</th><th>estimate</th><th>s.e.</th><th>rel. s.e.</th><th>unit</th></tr>"
             f"{cells}</table>" + (f"<ul>{reasons}</ul>" if reasons else "")
+        )
+
+
+class Frf:
+    """FRFs of the linearised model (from :meth:`Identification.frf`).
+
+    Attributes:
+        document: the study as a dict: ``linearised_at`` (``"rest"`` or
+            ``"static equilibrium"``), ``notes`` (what the linearisation
+            keeps of each nonlinear law), ``frequencies_hz`` and ``pairs``
+            (each with ``excitation``, ``output``, ``unit``, ``magnitude``,
+            ``phase_deg``, ``real``, ``imag``, ``band`` and ``measured``).
+        svg: the figure (magnitude, phase, coherence per pair) as SVG text,
+            or ``None`` if nothing could be drawn.
+    """
+
+    def __init__(self, document: Dict[str, Any], svg: Optional[str]) -> None:
+        self.document = document
+        self.svg = svg
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """The model's frequencies, Hz (numpy array)."""
+        return np.asarray(self.document["frequencies_hz"], dtype=float)
+
+    @property
+    def pairs(self) -> List[Tuple[str, str]]:
+        """The (excitation, output) pairs, in order."""
+        return [(p["excitation"], p["output"]) for p in self.document["pairs"]]
+
+    def response(self, output: str, excitation: Optional[str] = None) -> np.ndarray:
+        """The model's complex FRF to ``output`` (a sensor's name) from
+        ``excitation`` (default: the first), a numpy complex array on
+        :attr:`frequencies`, in the reading's unit per newton."""
+        p = self._pair(output, excitation)
+        return np.asarray(p["real"], dtype=float) + 1j * np.asarray(p["imag"], dtype=float)
+
+    def band(self, output: str, excitation: Optional[str] = None) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+        """The 95 % band of |H| to ``output``: (lower, upper) numpy arrays,
+        or ``None`` without standard errors."""
+        b = self._pair(output, excitation).get("band")
+        if b is None:
+            return None
+        return np.asarray(b["magnitude_lo"], dtype=float), np.asarray(b["magnitude_hi"], dtype=float)
+
+    def _pair(self, output: str, excitation: Optional[str]) -> Dict[str, Any]:
+        for p in self.document["pairs"]:
+            if p["output"] == output and excitation in (None, p["excitation"]):
+                return p
+        raise KeyError(f"no FRF to {output!r}" + (f" from {excitation!r}" if excitation else "") + f"; pairs: {self.pairs}")
+
+    def to_pandas(self) -> Any:
+        """The FRFs as a long pandas DataFrame, one row per pair, curve and
+        frequency, with the columns of ``rfeid frf -o``'s CSV
+        (``curve`` is ``"model"`` or ``"H1 measured"``; NaN where absent)."""
+        import pandas as pd
+
+        rows: List[Dict[str, Any]] = []
+        f = self.document["frequencies_hz"]
+        for p in self.document["pairs"]:
+            b = p.get("band") or {}
+            for k, fk in enumerate(f):
+                rows.append(
+                    {
+                        "excitation": p["excitation"], "output": p["output"], "curve": "model",
+                        "frequency_hz": fk, "magnitude": p["magnitude"][k], "phase_deg": p["phase_deg"][k],
+                        "real": p["real"][k], "imag": p["imag"][k],
+                        "magnitude_lo95": b.get("magnitude_lo", [np.nan] * len(f))[k],
+                        "magnitude_hi95": b.get("magnitude_hi", [np.nan] * len(f))[k],
+                        "phase_lo95_deg": b.get("phase_lo_deg", [np.nan] * len(f))[k],
+                        "phase_hi95_deg": b.get("phase_hi_deg", [np.nan] * len(f))[k],
+                        "coherence": np.nan, "random_error": np.nan,
+                    }
+                )
+            for m in p["measured"]:
+                for k, fk in enumerate(m["frequencies_hz"]):
+                    rows.append(
+                        {
+                            "excitation": p["excitation"], "output": p["output"], "curve": f"H1 {m['label']}",
+                            "frequency_hz": fk, "magnitude": m["magnitude"][k], "phase_deg": m["phase_deg"][k],
+                            "real": m["real"][k], "imag": m["imag"][k],
+                            "magnitude_lo95": np.nan, "magnitude_hi95": np.nan,
+                            "phase_lo95_deg": np.nan, "phase_hi95_deg": np.nan,
+                            "coherence": m["coherence"][k], "random_error": m["random_error"][k],
+                        }
+                    )
+        return pd.DataFrame(rows)
+
+    def plot(self, path: PathLike) -> str:
+        """Writes the figure (SVG) to ``path``; returns the path, a ``str``."""
+        if self.svg is None:
+            raise ValueError("the FRFs have no positive magnitude to draw")
+        path = os.fspath(path)
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.svg)
+        return path
+
+    def _repr_svg_(self) -> Optional[str]:
+        return self.svg
+
+    def __repr__(self) -> str:
+        d = self.document
+        f = d["frequencies_hz"]
+        return (
+            f"<rfeid.Frf: {len(d['pairs'])} pairs, {len(f)} frequencies {f[0]:.4g}–{f[-1]:.4g} Hz, "
+            f"linearised at {d['linearised_at']}>"
         )
 
 

@@ -90,6 +90,17 @@ class Identification:
         """Writes the HTML report (report.html and its SVG figures) into
         ``dir``, created if missing (its parent must exist); returns
         report.html's path."""
+    def frf(
+        self,
+        fmin: Optional[float] = None,
+        fmax: Optional[float] = None,
+        points: Optional[int] = None,
+        spacing: str = "log",
+        segment: Optional[int] = None,
+        measured: bool = True,
+    ) -> Tuple[str, Optional[str]]:
+        """FRFs of the linearised model at the estimate, with the 95 % band
+        and the measured H1 and coherence: (JSON text, SVG text or None)."""
 
 def identify(
     model: Model,

@@ -65,6 +65,78 @@ impl PyIdentification {
             })?;
         write_report(&dir, &files)
     }
+
+    /// FRFs of the model linearised at rest (or at its static equilibrium
+    /// under gravity) at the estimate, from each excitation to each sensor,
+    /// with the 95 % band from the estimate's covariance (delta method), and
+    /// with `measured` the H1 and coherence of the identification's data
+    /// (Welch, `segment` samples per segment). Frequencies in Hz: `fmin`,
+    /// `fmax` (default the Nyquist frequency), `points` (default: fine
+    /// enough for the sharpest mode), `spacing` `"log"` or `"linear"`.
+    /// Returns (the study as JSON text, the figure as SVG text or None).
+    #[pyo3(signature = (fmin=None, fmax=None, points=None, spacing="log", segment=None, measured=true))]
+    #[allow(clippy::too_many_arguments)]
+    fn frf(
+        &self,
+        py: Python<'_>,
+        fmin: Option<f64>,
+        fmax: Option<f64>,
+        points: Option<usize>,
+        spacing: &str,
+        segment: Option<usize>,
+        measured: bool,
+    ) -> PyResult<(String, Option<String>)> {
+        let bad = |m: String| pyo3::exceptions::PyValueError::new_err(m);
+        let spacing = match spacing {
+            "log" => rfeid::frf::Spacing::Log,
+            "linear" => rfeid::frf::Spacing::Linear,
+            s => return Err(bad(format!("spacing {s:?}: \"log\" or \"linear\""))),
+        };
+        let nyquist = self.model.sampling.sample_rate / 2.0;
+        let top = fmax.unwrap_or(nyquist);
+        if !(top > 0.0 && top.is_finite()) {
+            return Err(bad(format!(
+                "fmax {top}: must be a positive frequency in Hz"
+            )));
+        }
+        if let Some(f) = fmin.filter(|f| !(*f >= 0.0 && *f < top)) {
+            return Err(bad(format!(
+                "fmin {f}: must be from 0 to below fmax ({top} Hz)"
+            )));
+        }
+        if let Some(n) = points.filter(|n| !(2..=100_000).contains(n)) {
+            return Err(bad(format!("points {n}: must be from 2 to 100 000")));
+        }
+        let at = rfeid::frf::at_estimate(&self.result, &self.model, "").map_err(model_error)?;
+        let frequencies =
+            rfeid::frf::grid(&self.model, &at.params, fmin, Some(top), points, spacing);
+        let request = rfeid::frf::FrfRequest {
+            model: &self.model,
+            params: at.params,
+            wrt: at.wrt,
+            covariance: at.covariance.ok(),
+            excitations: (0..self.model.excitations.len()).collect(),
+            outputs: rfeid::frf::Output::sensors(&self.model),
+            frequencies,
+        };
+        let data = rfeid::frf::DataSet {
+            label: "measured",
+            model: &self.model,
+            measured: &self.measured,
+            first: self.model.sampling.first_sample(self.result.from),
+            segment,
+            force: None,
+        };
+        let data = if measured { vec![data] } else { Vec::new() };
+        let study = py
+            .detach(|| rfeid::frf::study(&request, &data))
+            .map_err(|e| match e {
+                rfeid::frf::FrfError::Segment { .. } => bad(e.to_string()),
+                _ => failed(e),
+            })?;
+        let json = serde_json::to_string(&study).map_err(failed)?;
+        Ok((json, rfeid::report::frf::study_svg(&study)))
+    }
 }
 
 /// Writes a report's files into `dir` (created if missing; its parent must
