@@ -80,6 +80,7 @@ fn search_options(
             &[("plan", Start::Plan), ("values", Start::Values)],
         )?,
         jacobian_memory,
+        profiles: None,
     })
 }
 
