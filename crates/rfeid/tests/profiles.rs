@@ -189,6 +189,34 @@ fn profiles_do_not_depend_on_the_thread_count() {
     assert!(!one.profiles.is_empty());
 }
 
+/// A criterion that takes its Jacobian by blocks (`jacobian_memory` 0:
+/// the refits on its triangular factor without the held column) gives the
+/// profiles of the whole Jacobian, to rounding.
+#[test]
+fn profiles_by_blocks_equal_those_of_the_whole_jacobian() {
+    let m = model(&chain(0.5));
+    let measured = data(&m, 0.01, 7);
+    let whole = run(&m, measured.clone(), Weighting::Equal);
+    let settings = Settings {
+        plan_points: 20,
+        starts: 1,
+        jacobian_memory: Some(0),
+        profiles: Some(ProfileRequest::default()),
+        ..Settings::default()
+    };
+    let problem = OutputError::new(Simulator::new(&m), measured, 0);
+    let blocks = identify(problem, &settings, &Silent).expect("identifies");
+    for (a, b) in whole.profiles.iter().zip(&blocks.profiles) {
+        let [wlo, whi] = a.wald.unwrap();
+        let tol = 1e-4 * (whi - wlo);
+        for (x, y) in [(a.lower, b.lower), (a.upper, b.upper)] {
+            let (x, y) = (x.value().unwrap(), y.value().unwrap());
+            assert!((x - y).abs() <= tol, "{}: {x} {y}", a.name);
+        }
+    }
+    assert_eq!(blocks.profiles.len(), 2);
+}
+
 /// A damper the data bound less tightly than its box (noisy data, a box
 /// of about ±1.5 standard errors) is open at a bound: the profile stays
 /// below the threshold to the box, and the result says so in a warning.
@@ -232,4 +260,55 @@ fn profiling_an_unknown_parameter_is_an_error() {
     .expect_err("refused");
     assert!(e.to_string().contains("'k9'"), "{e}");
     assert!(e.to_string().contains("k1, c1"), "{e}");
+}
+
+/// Acceptance, by hand (`cargo test --release -p rfeid --test integration
+/// -- profiles::knee_column_coverage --ignored --nocapture`): the
+/// knee–column benchmark with 2 % noise, seeds 1–100, identified from the
+/// parameters' values with equal weights (as `rfeid demo`): how often the
+/// profile 95 % interval of h_t3 and of a_n4 holds the truth (expected
+/// 89–99 %), and the Wald interval's for comparison.
+#[test]
+#[ignore = "100 identifications with profiles: minutes"]
+fn knee_column_coverage() {
+    use rayon::prelude::*;
+    use rfeid::identification::pipeline::Start;
+    use rfeid::io::model_file::load_model;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/knee-column/model.toml");
+    let m = load_model(&path).expect("example loads");
+    let names = ["h_t3", "a_n4"];
+    let settings = Settings {
+        plan_points: 1,
+        starts: 1,
+        start: Start::Values,
+        profiles: Some(ProfileRequest {
+            parameters: names.iter().map(|s| s.to_string()).collect(),
+            ..ProfileRequest::default()
+        }),
+        ..Settings::default()
+    };
+    let seeds: Vec<u64> = (1..=100).collect();
+    let hits: Vec<[[bool; 2]; 2]> = seeds
+        .par_iter()
+        .map(|&seed| {
+            let problem = OutputError::new(Simulator::new(&m), data(&m, 0.02, seed), 0);
+            let r = identify(problem, &settings, &Silent).expect("identifies");
+            let mut out = [[false; 2]; 2];
+            for (k, p) in r.profiles.iter().enumerate() {
+                let truth = m.nominal()[m.parameter_index(&p.name).unwrap()];
+                let lo = p.lower.value().unwrap_or(f64::NEG_INFINITY);
+                let hi = p.upper.value().unwrap_or(f64::INFINITY);
+                let [wlo, whi] = p.wald.unwrap_or([f64::NAN; 2]);
+                out[k] = [lo <= truth && truth <= hi, wlo <= truth && truth <= whi];
+            }
+            out
+        })
+        .collect();
+    for (k, name) in names.iter().enumerate() {
+        let count = |i: usize| hits.iter().filter(|h| h[k][i]).count();
+        let (profile, wald) = (count(0), count(1));
+        eprintln!("{name}: the truth in the profile interval {profile}/100, in the Wald interval {wald}/100");
+        assert!((89..=99).contains(&profile), "{name}: {profile} %");
+    }
 }

@@ -9,8 +9,9 @@
 //! [`GRID_STD_ERRORS`] standard errors (or up to the box's bound if that is
 //! nearer, or if there is no standard error), extended towards the bound
 //! while the profile stays below the threshold. The parameters are
-//! profiled in parallel; each profile's refits run in order, so the result
-//! is the same for any number of threads.
+//! profiled in parallel; each profile's refits run in order, and a
+//! simulation's numbers do not depend on its threads, so the result is the
+//! same for any number of threads.
 use super::bounds::Bounds;
 use super::error::IdentifyError;
 use super::settings::{Progress, Settings};
@@ -92,9 +93,29 @@ pub(super) fn run(
         progress,
     };
     progress.profiles_started(columns.len());
-    let profiles: Vec<ParameterProfile> = columns.par_iter().map(|&j| shared.profile(j)).collect();
+    // As many profiles as threads or more: one profile per thread, each
+    // simulating on its own (the sensitivities' column groups would only
+    // integrate the state again per group); fewer: one after the other,
+    // each simulation's groups in parallel. Either way the same numbers.
+    let profiles: Vec<ParameterProfile> = match columns.len() >= rayon::current_num_threads() {
+        true => columns
+            .par_iter()
+            .map(|&j| on_one_thread(|| shared.profile(j)))
+            .collect(),
+        false => columns.iter().map(|&j| shared.profile(j)).collect(),
+    };
     let warnings = profiles.iter().flat_map(|p| p.warnings.clone()).collect();
     (profiles, warnings)
+}
+
+/// `f` in a pool of one thread, so that the simulations it runs see one
+/// thread (`rayon::current_num_threads`); in the caller's if such a pool
+/// cannot be started.
+fn on_one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(pool) => pool.install(f),
+        Err(_) => f(),
+    }
 }
 
 impl Shared<'_, '_> {
