@@ -70,6 +70,8 @@ pub fn identify(
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_start = Instant::now();
+    // A profile of a parameter that is not identified is refused first.
+    profiles::columns(&problem, settings)?;
     let one_point = Settings {
         plan_points: 1,
         starts: 1,

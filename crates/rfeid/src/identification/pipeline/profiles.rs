@@ -28,8 +28,9 @@ use rayon::prelude::*;
 
 /// The columns to profile: those named in the settings' request (every
 /// one if it names none), in the criterion's order; empty when none is
-/// asked. A name that is not an identified parameter is an error, raised
-/// before the run computes anything.
+/// asked. A name that is not an identified parameter is an error
+/// (`identify` checks before its plan, `finish` before its
+/// searches).
 pub(super) fn columns(
     problem: &OutputError<'_>,
     settings: &Settings,
