@@ -392,6 +392,18 @@ class _Bar:
             sys.stderr.flush()
 
 
+def _profile_names(profiles: Union[None, bool, Sequence[str]]) -> Optional[List[str]]:
+    """The native ``profiles``: ``None`` for none, ``[]`` for every
+    parameter, else the names."""
+    if profiles is None or profiles is False:
+        return None
+    if profiles is True:
+        return []
+    if isinstance(profiles, str):
+        return [profiles]
+    return [str(p) for p in profiles]
+
+
 def identify(
     model: Model,
     data: Any,
@@ -410,6 +422,8 @@ def identify(
     substeps: Optional[int] = None,
     jacobian_memory: Optional[int] = None,
     progress: bool = False,
+    profiles: Union[None, bool, Sequence[str]] = None,
+    profile_points: int = 20,
 ) -> "Identification":
     """Identifies the parameters with a box from measured data, as
     ``rfeid identify`` with the same options does (same numbers).
@@ -449,7 +463,11 @@ def identify(
       longer record's goes block by block into its triangular factor, the
       same results to rounding; 0: always);
     - ``progress=True``: shows the plan's bar and the local search's
-      iterations on standard error.
+      iterations on standard error;
+    - ``profiles``: after the bounds, the profile likelihoods of these
+      identified parameters (a list of names; ``True``: every one; ``None``,
+      the default: none), on ``profile_points`` grid points each (20; 2 to
+      1000): see :attr:`Identification.profiles`.
 
     Raises ``ValueError`` for an option out of range (named as the
     keyword: ``plan=0: must be 1 to 1000000``), :class:`ModelError` for a
@@ -483,6 +501,8 @@ def identify(
             substeps=substeps,
             jacobian_memory=jacobian_memory,
             progress=bar,
+            profiles=_profile_names(profiles),
+            profile_points=profile_points,
         )
     finally:
         if bar is not None:
@@ -553,6 +573,47 @@ class Identification:
         if v is None:
             return Verdict("suspect", ("no verdict was reached",))
         return Verdict(v[0], tuple(v[1]))
+
+    @property
+    def profiles(self) -> Dict[str, Dict[str, Any]]:
+        """The profile likelihoods asked for (``identify(profiles=...)``): a
+        dict parameter name -> dict with ``values`` (the held values, SI),
+        ``criterion`` (J minimised over the others, NaN where the refit
+        failed) and ``statistic`` (ΔJ/s², NaN likewise) as numpy arrays in
+        increasing value, ``parameters`` (an array points × parameters, SI,
+        NaN rows where the refit failed), ``interval`` (the 95 %
+        likelihood-ratio interval as (lower, upper), an end ``None`` where it
+        is open or unresolved), ``lower`` and ``upper`` (RESULT.json's
+        interval ends), ``wald`` (the Wald interval or ``None``),
+        ``estimate``, ``std_error``, ``threshold`` (χ²₁(0.95)) and
+        ``warnings``. Empty when none were asked."""
+        out: Dict[str, Dict[str, Any]] = {}
+        r = len(self.parameter_names)
+        for p in self.document.get("profiles", []):
+            crit = np.array(
+                [np.nan if q["criterion"] is None else q["criterion"] for q in p["points"]],
+                dtype=float,
+            )
+            params = np.array(
+                [q["parameters"] if q["parameters"] else [np.nan] * r for q in p["points"]],
+                dtype=float,
+            ).reshape(len(p["points"]), r)
+            end = lambda e: e["value"] if e["kind"] == "crossed" else None  # noqa: E731
+            out[p["name"]] = {
+                "values": np.array([q["value"] for q in p["points"]], dtype=float),
+                "criterion": crit,
+                "statistic": (crit - p["criterion"]) / p["s2"],
+                "parameters": params,
+                "interval": (end(p["lower"]), end(p["upper"])),
+                "lower": p["lower"],
+                "upper": p["upper"],
+                "wald": None if p.get("wald") is None else tuple(p["wald"]),
+                "estimate": p["estimate"],
+                "std_error": p.get("std_error"),
+                "threshold": p["threshold"],
+                "warnings": list(p.get("warnings", [])),
+            }
+        return out
 
     def to_json(self) -> str:
         """Returns RESULT.json's text (a ``str`` of JSON, SI values): the

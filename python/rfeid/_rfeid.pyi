@@ -120,6 +120,8 @@ def identify(
     substeps: Optional[int],
     jacobian_memory: Optional[int],
     progress: Optional[Callable[[int, int, int, int, int, float], None]],
+    profiles: Optional[List[str]] = None,
+    profile_points: int = 20,
 ) -> Tuple[Identification, List[str]]:
     """Identifies ``model``'s parameters from ``data`` (a data file, or a
     table: label, time in s, column names, columns in SI, the arrays as

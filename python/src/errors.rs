@@ -82,7 +82,9 @@ pub fn prepare_error(e: PrepareError) -> PyErr {
 pub fn identify_error(e: IdentifyError) -> PyErr {
     match e {
         IdentifyError::NoParameters => model_error(e),
-        IdentifyError::Plan(_) | IdentifyError::NoStarts => PyValueError::new_err(e.to_string()),
+        IdentifyError::Plan(_)
+        | IdentifyError::NoStarts
+        | IdentifyError::UnknownProfileParameter { .. } => PyValueError::new_err(e.to_string()),
         IdentifyError::TooFewObservations { .. } => data_error(e),
         _ => failed(e),
     }

@@ -10,8 +10,9 @@ use pyo3::prelude::*;
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::{prepare, SearchOptions};
 use rfeid::identification::pipeline::{
-    identify as run_pipeline, Method, NoiseModel, Start, Weighting,
+    identify as run_pipeline, Method, NoiseModel, ProfileRequest, Start, Weighting,
 };
+use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::result::{IdentificationResult, InputDigests};
 use rfeid::io::digest::file_digest;
 use rfeid::model::{set_values, Model};
@@ -45,6 +46,7 @@ fn search_options(
     threads: Option<usize>,
     start: &str,
     jacobian_memory: Option<usize>,
+    profiles: Option<ProfileRequest>,
 ) -> PyResult<SearchOptions> {
     Ok(SearchOptions {
         plan,
@@ -80,6 +82,7 @@ fn search_options(
             &[("plan", Start::Plan), ("values", Start::Values)],
         )?,
         jacobian_memory,
+        profiles,
     })
 }
 
@@ -154,13 +157,16 @@ fn search(
 /// `set` fixed, the data read and matched, the run prepared and searched,
 /// the result's source recorded, as `rfeid identify` does. Units: `from_`
 /// in s, `window` a fraction of the record, `tolerance` a relative RMS
-/// error, `substeps` steps per sample, `jacobian_memory` MiB;
+/// error, `substeps` steps per sample, `jacobian_memory` MiB; `profiles`
+/// the parameters to profile after the bounds (empty: every one; `None`:
+/// none), on `profile_points` points each;
 /// `progress(done, total, search, searches, iteration, J)` is called every
 /// 50 ms and once at the end. Returns the result and the notes of the
 /// reading.
 #[pyfunction]
 #[pyo3(signature = (model, data, *, set, plan, starts, method, weights, noise_model, window,
-    from_, threads, start, tolerance, substeps, jacobian_memory, progress))]
+    from_, threads, start, tolerance, substeps, jacobian_memory, progress, profiles=None,
+    profile_points=DEFAULT_POINTS))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
@@ -180,6 +186,8 @@ pub fn identify(
     substeps: Option<usize>,
     jacobian_memory: Option<usize>,
     progress: Option<Bound<'_, PyAny>>,
+    profiles: Option<Vec<String>>,
+    profile_points: usize,
 ) -> PyResult<(PyIdentification, Vec<String>)> {
     let options = search_options(
         plan,
@@ -192,6 +200,10 @@ pub fn identify(
         threads,
         start,
         jacobian_memory,
+        profiles.map(|parameters| ProfileRequest {
+            parameters,
+            points: profile_points,
+        }),
     )?;
     options.check().map_err(|e| option_error(&e))?;
     let fixed = set_values::fixed(model.model.clone(), &set).map_err(model_error)?;

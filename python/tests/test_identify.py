@@ -158,3 +158,26 @@ def test_ctrl_c_stops_an_identification_within_a_second(tmp_path, rfeid_cli, kne
     assert took < 1.0
     # The module still works afterwards.
     assert rfeid.identify(m, data, plan=10).estimates
+
+
+def test_profiles_equal_the_command_lines(tmp_path, rfeid_cli, knee_column):
+    data = measured(tmp_path, rfeid_cli, knee_column, seed=3)
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", knee_column, "--data", data, "-o", out, "-q", "--start", "values",
+              "--profiles=h_t3,a_n4", "--profile-points", "6")
+    cli = json.loads(out.read_text())
+    m = rfeid.Model.load(knee_column)
+    res = rfeid.identify(m, str(data), start="values", profiles=["h_t3", "a_n4"], profile_points=6)
+    assert res.document["profiles"] == cli["profiles"]
+    profiles = res.profiles
+    assert list(profiles) == ["a_n4", "h_t3"], "in the parameters' order"
+    p = profiles["h_t3"]
+    assert p["values"].shape == (7,) and np.all(np.diff(p["values"]) > 0)
+    assert p["parameters"].shape == (7, len(res.parameter_names))
+    assert np.nanmin(p["statistic"]) == 0.0
+    lo, hi = p["interval"]
+    assert lo < p["estimate"] < hi
+    assert p["threshold"] == pytest.approx(3.841458820694124)
+    assert rfeid.identify(m, str(data), start="values").profiles == {}
+    with pytest.raises(ValueError, match="'k9'"):
+        rfeid.identify(m, str(data), start="values", profiles=["k9"])

@@ -310,6 +310,20 @@ pub struct SearchArgs {
     /// The most memory a whole Jacobian (residual rows × parameters) may take, MiB (default 256). A larger one is never held whole: the simulation hands its rows over in blocks of samples to the Jacobian's triangular factor, which gives the same steps, estimates and standard errors to rounding. 0: always by blocks.
     #[arg(long, value_name = "MIB")]
     pub jacobian_memory: Option<usize>,
+    /// Profile likelihoods.
+    #[command(flatten)]
+    pub profile: ProfileArgs,
+}
+
+/// Profile likelihoods after the bounds, for every command that identifies.
+#[derive(Debug, Clone, Default, Args)]
+pub struct ProfileArgs {
+    /// After the bounds, the profile likelihood of each of these identified parameters (comma-separated, e.g. `--profiles a_n4,h_t3`; alone, every one): J minimised over the other parameters at a grid of its values about the estimate, and its 95 % likelihood-ratio interval beside the Wald interval of its standard error. Give NAMES with `=` when the model file follows (`--profiles=a_n4 model.toml`).
+    #[arg(long, value_name = "NAMES", num_args = 0..=1, default_missing_value = "")]
+    pub profiles: Option<String>,
+    /// Grid points of each profile, half each side of the estimate, over ±3 standard errors (2 to 1000; default 20); a side still below the 95 % threshold at its last point is extended towards the box's bound.
+    #[arg(long, value_name = "N", requires = "profiles")]
+    pub profile_points: Option<usize>,
 }
 
 /// `--method`.
@@ -408,6 +422,9 @@ pub struct MergeArgs {
     /// here. Its hash must still match.
     #[arg(long, value_name = "DATA")]
     pub data: Option<PathBuf>,
+    /// Profile likelihoods.
+    #[command(flatten)]
+    pub profile: ProfileArgs,
 }
 
 /// `rfeid demo`.

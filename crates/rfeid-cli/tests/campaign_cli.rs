@@ -451,3 +451,32 @@ fn a_sensor_offset_per_experiment_is_recovered() {
     );
     assert!(z <= 3.0, "worst {z:.2} standard errors");
 }
+
+/// `--profiles` on a campaign: every identified parameter profiled on the
+/// experiments fitted together, its intervals in RESULT.json and the table
+/// on the terminal.
+#[test]
+fn a_campaign_is_profiled() {
+    let dir = scratch_dir("campaign-profiles");
+    let model = campaign_model(&dir, THREE);
+    for (k, name) in ["a", "b", "v"].iter().enumerate() {
+        simulate_experiment(&dir, &model, name, k as u32 + 1);
+    }
+    let out = dir.join("r.json");
+    let r = identify_campaign(
+        &model,
+        &out,
+        &["--plan", "20", "--profiles", "--profile-points", "6"],
+    );
+    let profiles = r["profiles"].as_array().unwrap();
+    let names: Vec<&str> = profiles
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["k", "c"]);
+    for p in profiles {
+        assert_eq!(p["points"].as_array().unwrap().len(), 7, "{p}");
+        assert_eq!(p["lower"]["kind"], "crossed", "{p}");
+        assert_eq!(p["upper"]["kind"], "crossed", "{p}");
+    }
+}

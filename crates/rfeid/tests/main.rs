@@ -53,6 +53,7 @@ mod model_file_fuzz;
 mod model_file_reading;
 mod model_file_reference;
 mod power_law_exponent_one;
+mod profiles;
 mod regression_empty_wrt_sensitivities;
 mod regression_power_law_padding_divergence;
 mod report_knee_column;

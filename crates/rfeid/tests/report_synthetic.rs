@@ -271,3 +271,52 @@ fn the_heat_map_outlines_exactly_the_verdicts_pairs() {
     assert!(html.contains("Suspect: do not use these estimates before resolving 1 reason:"));
     assert!(html.contains("are correlated (+0.9500)"));
 }
+
+/// A profiled parameter gets its figure: the profile (a failed refit
+/// marked), the χ² threshold, the Wald parabola, the intervals in words.
+#[test]
+fn a_profile_is_drawn_with_its_threshold_and_wald_parabola() {
+    use rfeid::identification::profile::{IntervalEnd, ParameterProfile, ProfilePoint};
+    let model = knee_column();
+    let mut result = synthetic_result(&model, 0);
+    let d = data(&model, 500);
+    let p = &result.parameters[0];
+    let (x_hat, se) = (p.estimate, p.std_error.unwrap_or(p.estimate * 0.01));
+    let point = |k: i32| {
+        let value = x_hat + 0.6 * se * k as f64;
+        ProfilePoint {
+            value,
+            criterion: (k != 2).then(|| 1.0 + 1e-3 * (k as f64 * 0.6).powi(2)),
+            parameters: Vec::new(),
+            termination: None,
+            iterations: 1,
+            failure: (k == 2).then(|| "diverged".to_string()),
+        }
+    };
+    result.profiles = vec![ParameterProfile {
+        name: p.name.clone(),
+        estimate: x_hat,
+        std_error: Some(se),
+        criterion: 1.0,
+        s2: 1e-3,
+        threshold: 3.841458820694124,
+        wald: Some([x_hat - 1.96 * se, x_hat + 1.96 * se]),
+        lower: IntervalEnd::Crossed {
+            value: x_hat - 1.96 * se,
+        },
+        upper: IntervalEnd::Open { bound: p.max },
+        points: (-5..=5).map(point).collect(),
+        warnings: Vec::new(),
+    }];
+    let html = render_html(&input(&model, &result, &d, None)).expect("renders");
+    let svg = figure(&html, &format!("Profile likelihood of {}", p.name));
+    check_svg(svg);
+    for text in [
+        "χ²₁(0.95) threshold",
+        "Wald: ((x − x̂)/σ)²",
+        "failed refit",
+        "open at max",
+    ] {
+        assert!(svg.contains(text), "{text}");
+    }
+}

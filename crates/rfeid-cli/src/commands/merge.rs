@@ -50,12 +50,13 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         )));
     }
     let measured = load_data(&data_path, &model, ui)?;
-    let search = first
+    let mut search = first
         .search
         .to_args(args.threads, args.timings)
         .map_err(|e| {
             Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
         })?;
+    search.profile = args.profile.clone();
     let model = stepped(model, &search.steps)?;
     let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
     progress.bar.finish_and_clear();
@@ -64,6 +65,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
     let mut result = finish(problem, &settings, &plan, outcomes, seconds, &progress)
         .map_err(identify_failure)?;
+    progress.finish();
     result.source.model = Some(first.model.clone());
     result.source.data = Some(first.data.clone());
     result.source.digests = Some(input_digests(

@@ -39,7 +39,8 @@ pub fn identify_failure(e: IdentifyError) -> Failure {
         IdentifyError::NoParameters
         | IdentifyError::Plan(_)
         | IdentifyError::NoStarts
-        | IdentifyError::TooFewObservations { .. } => Failure::input_msg(e),
+        | IdentifyError::TooFewObservations { .. }
+        | IdentifyError::UnknownProfileParameter { .. } => Failure::input_msg(e),
         _ => Failure::failed(e),
     }
 }

@@ -11,7 +11,8 @@
 //! - inputs unchanged: [`digest`] (what RESULT.json records of its files);
 //! - failures: [`failures`] (library errors as exit statuses);
 //! - designs: [`design_text`] (the table and JSON of `rfeid design`);
-//! - results: [`show`] and [`verdict_text`] (the tables and notes),
+//! - results: [`show`], [`profile_text`] and [`verdict_text`] (the tables
+//!   and notes),
 //!   [`report`] (report files), [`closing`] (the closing sequence of
 //!   `identify`, `demo` and `merge`).
 pub mod belongs;
@@ -24,6 +25,7 @@ pub mod experiments;
 pub mod failures;
 pub mod inputs;
 pub mod limits;
+pub mod profile_text;
 pub mod progress;
 pub mod report;
 pub mod search;

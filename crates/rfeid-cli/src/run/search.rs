@@ -5,13 +5,16 @@ use super::failures::{identify_failure, simulation_failure};
 use super::limits::{check_limits, start_threads};
 use super::progress::Bars;
 use super::show::search_steps_note;
-use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StartArg, WeightsArg};
+use crate::cli::{MethodArg, NoiseModelArg, ProfileArgs, SearchArgs, StartArg, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::{self, PrepareError, SearchOptions};
 use rfeid::identification::output_error::OutputError;
-use rfeid::identification::pipeline::{identify, Method, NoiseModel, Settings, Start, Weighting};
+use rfeid::identification::pipeline::{
+    identify, Method, NoiseModel, ProfileRequest, Settings, Start, Weighting,
+};
+use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::model::Model;
 use rfeid::simulation::Response;
@@ -53,7 +56,22 @@ pub fn options(a: &SearchArgs, start: StartArg) -> SearchOptions {
         window: a.window,
         start: start_of(start),
         jacobian_memory: a.jacobian_memory,
+        profiles: profile_request(&a.profile),
     }
+}
+
+/// The library's profile request of `--profiles` and `--profile-points`.
+pub fn profile_request(a: &ProfileArgs) -> Option<ProfileRequest> {
+    let names = a.profiles.as_ref()?;
+    Some(ProfileRequest {
+        parameters: names
+            .split(',')
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .map(String::from)
+            .collect(),
+        points: a.profile_points.unwrap_or(DEFAULT_POINTS),
+    })
 }
 
 /// Checks the search settings and runs the pipeline.
@@ -76,7 +94,7 @@ pub fn run_search_from(
 ) -> Result<IdentificationResult, Failure> {
     let (problem, settings, progress) = prepare_from(model, measured, a, start, ui)?;
     let result = identify(problem, &settings, &progress).map_err(identify_failure)?;
-    progress.bar.finish_and_clear();
+    progress.finish();
     Ok(result)
 }
 

@@ -11,7 +11,7 @@
 use super::digest::{fnv1a, read_bytes};
 use super::limits::{MAX_PLAN, MAX_STARTS};
 use super::search::DEFAULT_WEIGHTS;
-use crate::cli::{MethodArg, NoiseModelArg, SearchArgs, StepArgs, WeightsArg};
+use crate::cli::{MethodArg, NoiseModelArg, ProfileArgs, SearchArgs, StepArgs, WeightsArg};
 use crate::diagnostics::Failure;
 use crate::outputs::Checked;
 use clap::ValueEnum;
@@ -93,6 +93,8 @@ impl SearchSpec {
             // Memory, like the threads, is the merging machine's: its
             // default.
             jacobian_memory: None,
+            // Profiles do not change the plan: `merge` asks for them.
+            profile: ProfileArgs::default(),
         })
     }
 }

@@ -1,5 +1,6 @@
 //! The results shown after a search: the paper-style tables (Tables 1–2)
 //! and the notes, or the result as JSON with `--json`.
+use super::profile_text::write_profiles;
 use super::verdict_text::write_verdict;
 use crate::diagnostics::Failure;
 use crate::format::{sig, table};
@@ -100,6 +101,7 @@ pub fn format_result(
     let _ = writeln!(out);
     out.push_str(&parameter_table(model, r, reference));
     let _ = writeln!(out);
+    write_profiles(&mut out, model, r);
     write_search(&mut out, r);
     write_experiments(&mut out, r);
     write_verdict(&mut out, r);
@@ -107,10 +109,14 @@ pub fn format_result(
         let t = &r.timings;
         let _ = writeln!(
         out,
-            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s, total {:.3} s ({} thread{})",
+            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s,{} total {:.3} s ({} thread{})",
             t.plan,
             t.local_search,
             t.uncertainty,
+            match r.profiles.is_empty() {
+                true => String::new(),
+                false => format!(" profiles {:.3} s,", t.profiles),
+            },
             t.total,
             r.threads,
             if r.threads == 1 { "" } else { "s" }
@@ -233,7 +239,8 @@ fn write_search(out: &mut String, r: &IdentificationResult) {
     if let Some(e) = &r.uncertainty_error {
         let _ = writeln!(out, "warning: no standard errors: {e}");
     }
-    for w in &r.warnings {
+    // The profiles' warnings are shown under their table.
+    for w in r.warnings.iter().filter(|w| !w.is_profile()) {
         let _ = writeln!(out, "warning: {w}");
     }
 }

@@ -184,6 +184,76 @@ impl BlockedQr {
         self.ssr_rest += res.iter().map(|v| v * v).sum::<f64>();
     }
 
+    /// The factor of the same rows with column `j` left out, into `out`
+    /// (resized if it has not `n_cols − 1` columns): R without its column j
+    /// is upper Hessenberg from column j on, and Givens rotations of rows
+    /// j … r−1 make it triangular again; `Qᵀ res` takes the same rotations,
+    /// and its last entry, which no remaining column explains, joins
+    /// [`BlockedQr::ssr_rest`]. Without column j, `J = Q R` becomes the
+    /// Jacobian of the other variables (a profile's problem with x_j held,
+    /// eq. 16). Does nothing if `j` is not a column.
+    pub fn without_column_into(&self, j: usize, out: &mut BlockedQr) {
+        let n = self.n_cols();
+        if j >= n {
+            return;
+        }
+        if out.n_cols() + 1 != n {
+            *out = BlockedQr::new(n - 1);
+        }
+        // The first r − 1 rows of R without its column j.
+        let mut h = std::mem::take(&mut out.r);
+        if h.shape() != (n - 1, n - 1) {
+            h = DMatrix::zeros(n - 1, n - 1);
+        }
+        let mut z = std::mem::take(&mut out.qtr);
+        z.clear();
+        z.extend_from_slice(&self.qtr);
+        let mut rest = self.ssr_rest;
+        for c in 0..n - 1 {
+            let src = if c < j { c } else { c + 1 };
+            for i in 0..n - 1 {
+                h[(i, c)] = self.r[(i, src)];
+            }
+        }
+        // Row i + 1 of R without column j at column k: the last row (n − 1)
+        // is not kept in `h`; it is still R's own when the last rotation
+        // reads it, and what that rotation leaves in it is zero.
+        let below = |h: &DMatrix<f64>, c: usize, k: usize| match c + 1 < n - 1 {
+            true => h[(c + 1, k)],
+            false => self.r[(n - 1, k + 1)],
+        };
+        for c in j..n - 1 {
+            let (top, low) = (h[(c, c)], below(&h, c, c));
+            let norm = top.hypot(low);
+            if norm == 0.0 {
+                continue;
+            }
+            let (cs, sn) = (top / norm, low / norm);
+            for k in c..n - 1 {
+                let (a, b) = (h[(c, k)], below(&h, c, k));
+                h[(c, k)] = cs * a + sn * b;
+                if c + 1 < n - 1 {
+                    h[(c + 1, k)] = cs * b - sn * a;
+                }
+            }
+            let (a, b) = (z[c], z[c + 1]);
+            z[c] = cs * a + sn * b;
+            z[c + 1] = cs * b - sn * a;
+        }
+        rest += z[n - 1] * z[n - 1];
+        z.truncate(n - 1);
+        for c in 0..n - 1 {
+            for i in c + 1..n - 1 {
+                h[(i, c)] = 0.0;
+            }
+        }
+        out.r = h;
+        out.qtr = z;
+        out.ssr_rest = rest;
+        out.rows = self.rows;
+        out.first_non_finite = self.first_non_finite;
+    }
+
     /// Builds the factor of a whole Jacobian `jac` with residuals `res`, in
     /// blocks of `block_rows` rows (≥ 1), copying each block into one
     /// scratch matrix.

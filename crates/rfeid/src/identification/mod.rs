@@ -10,7 +10,8 @@
 //!   paper's BFGS with finite-difference gradients, eq. 20–25) search locally
 //!   inside the box, and end with a [`termination::StopReason`];
 //! - [`uncertainty`] turns the Jacobian at the estimate into Cramér–Rao
-//!   bounds (eq. 26–29) and identifiability warnings;
+//!   bounds (eq. 26–29) and identifiability warnings, and [`profile`] into
+//!   profile likelihoods and their intervals;
 //! - [`verdict`] says whether the result can be trusted, with every reason
 //!   it cannot (bounds, distinct minima, convergence, fit, residual
 //!   whiteness, identifiability).
@@ -30,6 +31,7 @@ pub mod pipeline;
 pub mod plan;
 pub mod plan_eval;
 pub mod problem;
+pub mod profile;
 pub mod result;
 pub mod search;
 pub mod settings;

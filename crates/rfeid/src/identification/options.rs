@@ -6,8 +6,9 @@
 use crate::identification::cancel::Cancel;
 use crate::identification::output_error::OutputError;
 use crate::identification::pipeline::{
-    IdentifyError, Method, NoiseModel, Settings, Start, Weighting, DEFAULT_RESTARTS,
+    IdentifyError, Method, NoiseModel, ProfileRequest, Settings, Start, Weighting, DEFAULT_RESTARTS,
 };
+use crate::identification::profile::{MAX_POINTS, MIN_POINTS};
 use crate::measurement::constant_sensors;
 use crate::model::Model;
 use crate::simulation::{Response, SimulationError, Simulator};
@@ -60,6 +61,9 @@ pub struct SearchOptions {
     /// MiB a whole Jacobian may take before it is taken block by block
     /// ([`Settings::jacobian_memory`]); `None`: 256.
     pub jacobian_memory: Option<usize>,
+    /// Profile likelihoods after the bounds ([`Settings::profiles`]);
+    /// `None`: none.
+    pub profiles: Option<ProfileRequest>,
 }
 
 impl Default for SearchOptions {
@@ -75,6 +79,7 @@ impl Default for SearchOptions {
             window: None,
             start: Start::Plan,
             jacobian_memory: None,
+            profiles: None,
         }
     }
 }
@@ -138,7 +143,7 @@ fn is_value(text: &str) -> bool {
 }
 
 impl SearchOptions {
-    /// Checks `plan`, `starts`, `threads`, `window` and that a search from
+    /// Checks `plan`, `starts`, `threads`, `window`, the profiles' points and that a search from
     /// the values starts once, before anything is computed.
     pub fn check(&self) -> Result<(), OptionError> {
         if !(1..=MAX_PLAN).contains(&self.plan) {
@@ -159,6 +164,15 @@ impl SearchOptions {
         if let Some(w) = self.window.filter(|w| !(0.0..1.0).contains(w)) {
             let detail = format!("{w}: must lie in [0, 1) (0: off)");
             return Err(OptionError::new("window", detail));
+        }
+        if let Some(n) = self
+            .profiles
+            .as_ref()
+            .map(|p| p.points)
+            .filter(|n| !(MIN_POINTS..=MAX_POINTS).contains(n))
+        {
+            let detail = format!("{n}: must be {MIN_POINTS} to {MAX_POINTS}");
+            return Err(OptionError::new("profile-points", detail));
         }
         if self.start == Start::Values && self.starts != 1 {
             let detail = format!(
@@ -183,6 +197,7 @@ impl SearchOptions {
             restarts: DEFAULT_RESTARTS,
             start: self.start,
             jacobian_memory: self.jacobian_memory.map(|mib| mib.saturating_mul(1 << 20)),
+            profiles: self.profiles.clone(),
             ..Settings::default()
         }
     }

@@ -74,6 +74,9 @@ pub struct Timings {
     pub local_search: f64,
     /// The Cramér–Rao bounds.
     pub uncertainty: f64,
+    /// The profile likelihoods (0 when none were asked).
+    #[serde(default)]
+    pub profiles: f64,
     /// Everything.
     pub total: f64,
 }
@@ -238,6 +241,10 @@ pub struct IdentificationResult {
     /// empty for a single data file.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub experiments: Vec<ExperimentSummary>,
+    /// The profile likelihoods asked for (`--profiles`), with their
+    /// likelihood-ratio and Wald intervals; empty when none were asked.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub profiles: Vec<super::profile::ParameterProfile>,
 }
 
 impl IdentificationResult {

@@ -59,8 +59,95 @@ pub enum Warning {
         /// Why.
         reason: super::termination::SolveError<crate::simulation::SimulationError>,
     },
+    /// The profile likelihood's 95 % interval of a parameter differs from
+    /// the Wald interval of its Cramér–Rao bound (eq. 26) by more than a
+    /// third of its width or of either half-width: the criterion is not
+    /// quadratic over the interval, and the standard error misstates the
+    /// uncertainty ([`crate::identification::profile`]).
+    ProfileDiffers {
+        /// The parameter.
+        parameter: String,
+        /// The profile interval, SI.
+        profile: [f64; 2],
+        /// The Wald interval, SI.
+        wald: [f64; 2],
+    },
+    /// A parameter's profile stays below the 95 % threshold up to the
+    /// bounds listed: the data do not bound it there (practically
+    /// non-identifiable).
+    ProfileOpen {
+        /// The parameter.
+        parameter: String,
+        /// The box's bounds it is open at, SI.
+        bounds: Vec<f64>,
+    },
+    /// A parameter's profile ended below the threshold before its bound
+    /// (its refits there failed, or the walk's points ran out), so that end
+    /// of its interval is unknown.
+    ProfileUnresolved {
+        /// The parameter.
+        parameter: String,
+        /// `lower` or `upper`.
+        side: String,
+        /// The farthest value refitted, SI.
+        last: f64,
+    },
+    /// The profiles could not be computed.
+    ProfilesSkipped(String),
     /// A warning read back from a RESULT.json, in its words.
     Recorded(String),
+}
+
+impl Warning {
+    /// The words of a profile's warning ([`Warning::is_profile`]); nothing
+    /// for the others.
+    fn fmt_profile(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::ProfileDiffers {
+                parameter,
+                profile: [lo, hi],
+                wald: [wlo, whi],
+            } => write!(
+                f,
+                "{parameter}: the profile likelihood's 95 % interval [{lo:.5e}, {hi:.5e}] differs \
+                 from the Wald interval of its standard error [{wlo:.5e}, {whi:.5e}] by more than \
+                 a third: the criterion is not quadratic there, trust the profile interval"
+            ),
+            Warning::ProfileOpen { parameter, bounds } => {
+                let at: Vec<String> = bounds.iter().map(|b| format!("{b:.5e}")).collect();
+                write!(
+                    f,
+                    "{parameter}: the profile likelihood stays below the 95 % threshold up to \
+                     the box's bound {}: the data do not bound it there (practically \
+                     non-identifiable)",
+                    at.join(" and ")
+                )
+            }
+            Warning::ProfileUnresolved {
+                parameter,
+                side,
+                last,
+            } => write!(
+                f,
+                "{parameter}: the profile ended at {last:.5e}, below the 95 % threshold and \
+                 short of the box's bound (its refits failed beyond, or its points ran out), so \
+                 the {side} end of its profile interval is unknown"
+            ),
+            Warning::ProfilesSkipped(reason) => write!(f, "no profiles: {reason}"),
+            _ => Ok(()),
+        }
+    }
+
+    /// Whether the warning is about a profile likelihood.
+    pub fn is_profile(&self) -> bool {
+        matches!(
+            self,
+            Warning::ProfileDiffers { .. }
+                | Warning::ProfileOpen { .. }
+                | Warning::ProfileUnresolved { .. }
+                | Warning::ProfilesSkipped(_)
+        )
+    }
 }
 
 impl fmt::Display for Warning {
@@ -133,6 +220,10 @@ impl fmt::Display for Warning {
                  searched the whole record from its plan point instead",
                 fraction * 100.0
             ),
+            w @ (Warning::ProfileDiffers { .. }
+            | Warning::ProfileOpen { .. }
+            | Warning::ProfileUnresolved { .. }
+            | Warning::ProfilesSkipped(_)) => w.fmt_profile(f),
             Warning::AboveNyquist(text) | Warning::Recorded(text) => f.write_str(text),
         }
     }

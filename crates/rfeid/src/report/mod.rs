@@ -5,7 +5,9 @@
 //! The page, in order: a summary (converged or not, J, s², N, the worst
 //! error against a reference if one is given, timings); the identifiability
 //! warnings; the parameter table with the estimates drawn inside their boxes
-//! with ±1 and ±3 Cramér–Rao standard errors (eq. 26); measured against model
+//! with ±1 and ±3 Cramér–Rao standard errors (eq. 26), and each profile
+//! likelihood asked for (ΔJ/s² against the χ²₁(0.95) threshold and the Wald
+//! parabola of the standard error); measured against model
 //! response for each sensor (the paper's Fig. 2) with a zoomed window where
 //! the residuals are largest; the residuals and their spectra against each
 //! sensor's noise model; the LP_τ plan's criterion values
@@ -37,6 +39,7 @@ mod html;
 mod intervals;
 mod model_summary;
 mod plan;
+mod profiles;
 mod signals;
 mod spectra;
 mod svg;
@@ -228,6 +231,7 @@ const STEM_CHARS: usize = 64;
 pub(crate) fn figures(input: &ReportInput) -> Vec<Figure> {
     let r = input.result;
     let mut out = vec![parameters_figure(input)];
+    out.extend(profile_figures(r));
     let channels = channels(input);
     out.extend(response_figures(input, &channels));
     out.push(Figure {
@@ -337,6 +341,32 @@ fn spectrum_figures(input: &ReportInput, channels: &[signals::Channel]) -> Vec<F
                 ),
                 svg,
             })
+        })
+        .collect()
+}
+
+/// One figure per profiled parameter (`--profiles`), in the parameters
+/// section.
+fn profile_figures(r: &IdentificationResult) -> Vec<Figure> {
+    r.profiles
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let est = r.parameters.iter().find(|e| e.name == p.name);
+            let (scale, symbol) = est.map_or((1.0, ""), |e| (e.unit_scale, e.unit.as_str()));
+            Figure {
+                file: format!("profile-{:02}-{}.svg", k + 1, file_stem(&p.name)),
+                section: "parameters",
+                caption: format!(
+                    "Profile likelihood of {}: J minimised over the other parameters at each \
+                     held value, as ΔJ/s² (s² of eq. 29); its 95 % interval is where it stays \
+                     below the χ²₁(0.95) = {:.2} line. The dashed parabola is the Wald \
+                     approximation of the Cramér–Rao standard error (eq. 26): where the two \
+                     part, the standard error misstates the uncertainty.",
+                    p.name, p.threshold
+                ),
+                svg: profiles::profile_figure(p, scale, symbol),
+            }
         })
         .collect()
 }

@@ -109,6 +109,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
             plan: 1.5,
             local_search: 2.5,
             uncertainty: 0.2,
+            profiles: 0.0,
             total: 4.3,
         },
         threads: 2,
@@ -116,6 +117,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         verdict: None,
         simulation: None,
         experiments: Vec::new(),
+        profiles: Vec::new(),
         noise: Vec::new(),
         std_errors_cover: Default::default(),
     }

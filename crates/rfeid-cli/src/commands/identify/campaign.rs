@@ -86,7 +86,7 @@ fn fit(
         .collect::<Result<Vec<_>, _>>()?;
     let problem = OutputError::campaign(parts);
     let mut result = identify(problem, &settings, &progress).map_err(identify_failure)?;
-    progress.bar.finish_and_clear();
+    progress.finish();
     result.source.set = args.set.clone();
     result.source.model = Some(args.model.display().to_string());
     let data: Vec<PathBuf> = model.experiments.iter().map(|x| x.data.clone()).collect();

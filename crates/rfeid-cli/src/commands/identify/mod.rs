@@ -63,6 +63,11 @@ fn check_combinations(args: &IdentifyArgs, sharded: bool) -> Result<(), Failure>
             "--report with --shard: a shard has no result to report; give --report to `rfeid merge`",
         ));
     }
+    if sharded && args.search.profile.profiles.is_some() {
+        return Err(Failure::input_msg(
+            "--profiles with --shard: a shard computes no estimate to profile; give --profiles to `rfeid merge`",
+        ));
+    }
     if sharded && (!args.set.is_empty() || args.start == StartArg::Values) {
         return Err(Failure::input_msg(
             "--set or --start values with --shard: shards share one run's model file; write the values into a copy of the model file instead",

@@ -7,6 +7,7 @@ use super::settings::{Settings, Weighting};
 use crate::identification::noise::{SensorNoise, StdErrorScope};
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::LeastSquares;
+use crate::identification::profile::ParameterProfile;
 use crate::identification::result::{
     ExperimentSummary, IdentificationResult, Iterate, ParameterEstimate, StartFailure, Timings,
 };
@@ -38,6 +39,8 @@ pub(super) struct Found<'a> {
     pub tally: Tally,
     /// Wall times.
     pub timings: Timings,
+    /// The profile likelihoods asked for.
+    pub profiles: Vec<ParameterProfile>,
 }
 
 /// The result of the run.
@@ -118,6 +121,7 @@ pub(super) fn assemble(
         std_errors_cover: std_error_scope(&f.verdict),
         verdict: Some(f.verdict),
         simulation: Some(problem.experiment_simulator(0).steps()),
+        profiles: f.profiles,
     }
 }
 

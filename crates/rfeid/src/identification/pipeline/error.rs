@@ -53,6 +53,14 @@ pub enum IdentifyError {
     /// The run was cancelled ([`crate::identification::cancel::Cancel`]).
     #[error("the identification was cancelled")]
     Cancelled,
+    /// A profile was asked of a parameter that is not identified.
+    #[error("profile of '{name}': not an identified parameter (identified: {identified})")]
+    UnknownProfileParameter {
+        /// The name asked for.
+        name: String,
+        /// The identified parameters, comma-separated.
+        identified: String,
+    },
     /// Every local search failed to start; each start's reason, in order.
     #[error("all {} local searches failed: {}", .0.len(), describe_failures(.0))]
     AllStartsFailed(Vec<StartFailure>),

@@ -17,7 +17,9 @@
 //! 6. `accuracy`: the steps per sample checked at the estimate, and the
 //!    estimate refined there when the plan and the searches took fewer
 //!    (`crate::simulation::steps`, "Searches");
-//! 7. `bounds`: Cramér–Rao bounds (eq. 26–29);
+//! 7. `bounds`: Cramér–Rao bounds (eq. 26–29), then, when asked,
+//!    `profiles`: profile likelihoods of chosen parameters and their
+//!    intervals ([`crate::identification::profile`]);
 //! 8. `judge`: the verdict;
 //! 9. `assemble`: the [`IdentificationResult`].
 //!
@@ -34,6 +36,7 @@ mod bounds;
 mod error;
 mod judge;
 mod plan;
+mod profiles;
 mod restarts;
 mod searcher;
 mod settings;
@@ -43,7 +46,8 @@ mod weights;
 pub use self::error::{IdentifyError, SearchError};
 pub use self::plan::{evaluate_points, plan, PointOutcome};
 pub use self::settings::{
-    Method, NoiseModel, Progress, Settings, Silent, Start, Weighting, DEFAULT_RESTARTS,
+    Method, NoiseModel, ProfileRequest, Progress, Settings, Silent, Start, Weighting,
+    DEFAULT_RESTARTS,
 };
 pub use crate::identification::result::StartFailure;
 
@@ -66,6 +70,8 @@ pub fn identify(
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_start = Instant::now();
+    // A profile of a parameter that is not identified is refused first.
+    profiles::columns(&problem, settings)?;
     let one_point = Settings {
         plan_points: 1,
         starts: 1,
@@ -127,6 +133,7 @@ fn finish_stages(
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let t_finish = Instant::now();
+    let profiled = profiles::columns(&problem, settings)?;
     if let Some(bytes) = settings.jacobian_memory {
         problem.set_jacobian_memory(bytes);
     }
@@ -158,6 +165,10 @@ fn finish_stages(
         &settings.uncertainty,
     );
     let t_bounds = t_bounds.elapsed().as_secs_f64();
+    let t_profiles = Instant::now();
+    let (profiles, profile_warnings) =
+        profiles::run(&problem, settings, &profiled, &best, &bounds, progress);
+    let t_profiles = t_profiles.elapsed().as_secs_f64();
     let fitted = problem.simulate_all(&best.u);
     let verdict = judge::verdict(&problem, &best, &kept, &bounds, &fitted, settings);
     let warnings = ends
@@ -165,6 +176,7 @@ fn finish_stages(
         .into_iter()
         .chain(step_warnings)
         .chain(ends.warnings)
+        .chain(profile_warnings)
         .collect();
     let tally = plan.tally + (problem.tally() - before);
     let found = Found {
@@ -180,8 +192,10 @@ fn finish_stages(
             plan: plan_seconds,
             local_search: t_local,
             uncertainty: t_bounds,
+            profiles: t_profiles,
             total: plan_seconds + t_finish.elapsed().as_secs_f64(),
         },
+        profiles,
     };
     Ok(assemble(&problem, settings, found))
 }

@@ -5,6 +5,7 @@ use crate::identification::lm::LmSettings;
 pub use crate::identification::noise::NoiseModel;
 #[cfg(doc)]
 use crate::identification::output_error::OutputError;
+pub use crate::identification::profile::ProfileRequest;
 pub use crate::identification::search::Method;
 use crate::identification::uncertainty::UncertaintySettings;
 use crate::identification::verdict::VerdictSettings;
@@ -75,6 +76,9 @@ pub struct Settings {
     /// simulation ([`OutputError::set_jacobian_memory`]); `None` keeps the
     /// criterion's own setting (256 MiB unless set).
     pub jacobian_memory: Option<usize>,
+    /// Profile likelihoods of these parameters after the bounds
+    /// ([`crate::identification::profile`]); `None`: none.
+    pub profiles: Option<ProfileRequest>,
 }
 
 /// The automatic restarts of `rfeid identify` ([`Settings::restarts`]).
@@ -90,6 +94,10 @@ pub trait Progress: Sync {
     fn search_started(&self, _k: usize, _of: usize, _cost: f64) {}
     /// An iteration of the local search ended at criterion `cost`.
     fn iteration(&self, _iteration: usize, _cost: f64) {}
+    /// The profiles of `parameters` parameters start (after the bounds).
+    fn profiles_started(&self, _parameters: usize) {}
+    /// The profile of parameter `name` is done (from any worker thread).
+    fn profile_done(&self, _name: &str) {}
 }
 
 /// No progress reporting.
