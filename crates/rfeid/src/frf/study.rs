@@ -272,8 +272,8 @@ fn notes(model: &Model, lin: &Linearised) -> Vec<String> {
     if !lin.zero_slope.is_empty() {
         notes.push(format!(
             "these power-law springs have zero slope at the linearisation point and add no \
-             stiffness to it: {} (their stiffness grows with deformation; give a preload with \
-             gravity or a static force to linearise under load)",
+             stiffness to it: {} (their stiffness grows with deformation; under gravity the \
+             model is linearised at its static equilibrium, where they carry its weight)",
             lin.zero_slope.join(", ")
         ));
     }
