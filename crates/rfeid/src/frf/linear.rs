@@ -17,7 +17,7 @@
 use crate::model::{Law, Model};
 use crate::simulation::equilibrium::static_equilibrium;
 use crate::simulation::structure::{FrictionKey, HysteresisKey, Row, Usage};
-use crate::simulation::system::System;
+use crate::simulation::system::{add_outer, System};
 use crate::simulation::{SimulationError, Simulator};
 
 /// A parameter's effect on the linearised system: a sum of terms.
@@ -248,21 +248,5 @@ fn friction_derivative(fr: &crate::model::Friction, p: &[f64], key: FrictionKey)
         FrictionKey::Static => at.inv_s,
         FrictionKey::StribeckVelocity => 0.0,
         FrictionKey::Smoothing => -at.f_rest * at.inv_s * at.inv_s,
-    }
-}
-
-/// `mat += s · rowᵀ row`, mat n × n row-major.
-fn add_outer(mat: &mut [f64], n: usize, row: &Row, s: f64) {
-    if s == 0.0 {
-        return;
-    }
-    for (oi, ci) in &row.blocks {
-        for (oj, cj) in &row.blocks {
-            for i in 0..6 {
-                for j in 0..6 {
-                    mat[(oi + i) * n + oj + j] += s * ci[i] * cj[j];
-                }
-            }
-        }
     }
 }

@@ -661,7 +661,7 @@ fn inverse_masses(
 }
 
 /// `mat += s · rowᵀ row`, mat n × n row-major.
-fn add_outer(mat: &mut [f64], n: usize, row: &Row, s: f64) {
+pub(crate) fn add_outer(mat: &mut [f64], n: usize, row: &Row, s: f64) {
     for (oi, ci) in &row.blocks {
         for (oj, cj) in &row.blocks {
             for i in 0..6 {
