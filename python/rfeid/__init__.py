@@ -579,7 +579,9 @@ class Identification:
         """The profile likelihoods asked for (``identify(profiles=...)``): a
         dict parameter name -> dict with ``values`` (the held values, SI),
         ``criterion`` (J minimised over the others, NaN where the refit
-        failed) and ``statistic`` (ΔJ/s², NaN likewise) as numpy arrays in
+        failed) and ``statistic`` (ΔJ/(κ s²), κ the ``variance_ratio``: 1
+        unless equal weights met sensors of different noise levels; NaN
+        likewise) as numpy arrays in
         increasing value, ``parameters`` (an array points × parameters, SI,
         NaN rows where the refit failed), ``interval`` (the 95 %
         likelihood-ratio interval as (lower, upper), an end ``None`` where it
@@ -602,7 +604,8 @@ class Identification:
             out[p["name"]] = {
                 "values": np.array([q["value"] for q in p["points"]], dtype=float),
                 "criterion": crit,
-                "statistic": (crit - p["criterion"]) / p["s2"],
+                "statistic": (crit - p["criterion"])
+                / (p["s2"] * p.get("variance_ratio", 1.0)),
                 "parameters": params,
                 "interval": (end(p["lower"]), end(p["upper"])),
                 "lower": p["lower"],

@@ -166,6 +166,9 @@ fn a_nearly_quadratic_criterion_gives_the_wald_interval() {
             assert!(p.points.windows(2).all(|w| w[0].value < w[1].value));
             let s2 = r.s2.expect("s²");
             assert_eq!(p.s2, s2, "the bounds' s²");
+            if weighting == Weighting::EstimatedNoise {
+                assert_eq!(p.variance_ratio, 1.0);
+            }
             let min = p.statistic().into_iter().flatten().fold(f64::MAX, f64::min);
             assert_eq!(min, 0.0);
         }

@@ -299,6 +299,7 @@ fn a_profile_is_drawn_with_its_threshold_and_wald_parabola() {
         std_error: Some(se),
         criterion: 1.0,
         s2: 1e-3,
+        variance_ratio: 1.0,
         threshold: 3.841458820694124,
         wald: Some([x_hat - 1.96 * se, x_hat + 1.96 * se]),
         lower: IntervalEnd::Crossed {

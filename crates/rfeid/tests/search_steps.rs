@@ -12,6 +12,7 @@ use rfeid::identification::output_error::OutputError;
 use rfeid::identification::pipeline::{evaluate_points, identify, plan, Settings, Silent};
 use rfeid::identification::problem::{evaluate_cost, sum_of_squares, LeastSquares};
 use rfeid::identification::result::IdentificationResult;
+use rfeid::identification::sensor_levels::{with_sensor_levels, SensorRows};
 use rfeid::identification::uncertainty::{cramer_rao_mapped, CramerRao, UncertaintySettings};
 use rfeid::identification::warning::Warning;
 use rfeid::io::model_file::load_model;
@@ -123,7 +124,8 @@ fn cost_at(problem: &OutputError<'_>, x: &[f64]) -> f64 {
 }
 
 /// The Cramér–Rao bounds (eq. 26–29) of `problem` at the physical values
-/// `x`, from a simulation with sensitivities there.
+/// `x`, from a simulation with sensitivities there, with each sensor's own
+/// noise level as equal weights take it.
 fn cramer_rao_at(problem: &OutputError<'_>, x: &[f64]) -> CramerRao {
     let u = problem.to_normalised(x);
     let (n, r) = (problem.n_residuals(), problem.n_params());
@@ -133,7 +135,10 @@ fn cramer_rao_at(problem: &OutputError<'_>, x: &[f64]) -> CramerRao {
         .expect("simulates");
     let settings = UncertaintySettings::default();
     let (dx_du, widths) = (problem.dx_du(&u), problem.widths());
-    cramer_rao_mapped(&jac, sum_of_squares(&res), &dx_du, widths, &settings).expect("bounds")
+    let bounds =
+        cramer_rao_mapped(&jac, sum_of_squares(&res), &dx_du, widths, &settings).expect("bounds");
+    let sensors = SensorRows::split(&jac, &res, &problem.weight_samples());
+    with_sensor_levels(bounds, &sensors, &dx_du, widths, &settings)
 }
 
 /// One mass on a spring whose stiffness the plan spans over a factor of

@@ -23,13 +23,12 @@ pub fn write_profiles(out: &mut String, model: &Model, r: &IdentificationResult)
     let Some(first) = r.profiles.first() else {
         return;
     };
-    let _ = writeln!(
-        out,
-        "profile likelihoods: 95 % intervals where ΔJ/s² ≤ χ²₁(0.95) = {:.3} (s² = {:.4e})",
-        first.threshold, first.s2
-    );
-    let rows: Vec<Vec<String>> = r.profiles.iter().map(|p| row(model, r, p)).collect();
-    let header = [
+    let s2 = first.s2;
+    // κ ≠ 1: the bounds took each sensor's own noise level (equal
+    // weights), and each profile's ΔJ is scaled by its own κ s².
+    let scaled = r.profiles.iter().any(|p| p.variance_ratio != 1.0);
+    let mut rows: Vec<Vec<String>> = r.profiles.iter().map(|p| row(model, r, p)).collect();
+    let mut header = vec![
         "parameter",
         "unit",
         "identified",
@@ -37,6 +36,24 @@ pub fn write_profiles(out: &mut String, model: &Model, r: &IdentificationResult)
         "profile 95 %",
         "refits",
     ];
+    if scaled {
+        let _ = writeln!(
+            out,
+            "profile likelihoods: 95 % intervals where ΔJ/(κ s²) ≤ χ²₁(0.95) = {:.3} (s² = {s2:.4e}; \
+             κ, the estimate's variance over eq. 26's with one s², as the sensors' noise levels differ)",
+            first.threshold
+        );
+        header.push("κ");
+        for (row, p) in rows.iter_mut().zip(&r.profiles) {
+            row.push(sig(p.variance_ratio, 3));
+        }
+    } else {
+        let _ = writeln!(
+            out,
+            "profile likelihoods: 95 % intervals where ΔJ/s² ≤ χ²₁(0.95) = {:.3} (s² = {s2:.4e})",
+            first.threshold
+        );
+    }
     out.push_str(&table(&header, &rows));
     for w in r.profiles.iter().flat_map(|p| &p.warnings) {
         let _ = writeln!(out, "warning: {w}");

@@ -34,6 +34,7 @@ pub mod problem;
 pub mod profile;
 pub mod result;
 pub mod search;
+pub mod sensor_levels;
 pub mod settings;
 pub mod tally;
 pub mod termination;

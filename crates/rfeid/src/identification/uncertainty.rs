@@ -220,6 +220,12 @@ pub struct CramerRao {
     pub condition_number_raw: f64,
     /// Identifiability warnings.
     pub warnings: Vec<IdentifiabilityWarning>,
+    /// When `covariance` takes each sensor's own noise level
+    /// ([`crate::identification::sensor_levels`]): eq. 26's covariance with
+    /// the one s², `(H₁ᵀH₁)⁻¹ s²`, whose shape the criterion's curvature
+    /// has (a profile's path follows it). `None`: `covariance` is that.
+    #[serde(skip)]
+    pub pooled: Option<DMatrix<f64>>,
 }
 
 fn serialize_matrix<S: serde::Serializer>(m: &DMatrix<f64>, s: S) -> Result<S::Ok, S::Error> {
@@ -525,6 +531,7 @@ fn from_scaled_factor(
         condition_number,
         condition_number_raw,
         warnings,
+        pooled: None,
     })
 }
 
@@ -547,7 +554,8 @@ fn null_space_parameters(
     parameters
 }
 
-fn warnings(
+/// The identifiability warnings of a covariance and its correlations.
+pub(super) fn warnings(
     std_errors: &[f64],
     covariance: &DMatrix<f64>,
     correlation: &DMatrix<f64>,

@@ -1,5 +1,5 @@
 //! The profile likelihoods (`--profiles`): for each profiled parameter,
-//! ΔJ/s² against its value, the χ²₁(0.95) threshold that bounds its
+//! ΔJ/s² (ΔJ/(κ s²): [`ParameterProfile::variance_ratio`]) against its value, the χ²₁(0.95) threshold that bounds its
 //! likelihood-ratio interval, the Wald parabola `((x − x̂)/σ)²` of its
 //! Cramér–Rao standard error (eq. 26) for comparison, and the estimate.
 use super::axis::{legend, Frame, Key, Scale};
@@ -38,7 +38,11 @@ pub(crate) fn profile_figure(p: &ParameterProfile, unit_scale: f64, unit_symbol:
         true => p.name.clone(),
         false => format!("{} ({u})", p.name),
     };
-    frame.axes(&mut svg, &x_title, "ΔJ / s²");
+    let y_title = match p.variance_ratio == 1.0 {
+        true => "ΔJ / s²".to_string(),
+        false => format!("ΔJ / (κ s²), κ = {}", sig(p.variance_ratio, 3)),
+    };
+    frame.axes(&mut svg, &x_title, &y_title);
     threshold_line(&mut svg, &frame, p.threshold);
     if let Some(se) = p.std_error {
         wald_parabola(&mut svg, &frame, show(p.estimate), show(se));

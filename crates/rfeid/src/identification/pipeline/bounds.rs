@@ -1,10 +1,13 @@
 //! Stage 7, the bounds: Cramér–Rao standard errors and correlations
 //! (eq. 26–29) from the exact Jacobian at the estimate, whole or, for a
-//! long record, as its triangular factor built block by block.
+//! long record, as its triangular factor built block by block. With equal
+//! weights and several sensors, the covariance takes each sensor's own
+//! noise level ([`crate::identification::sensor_levels`]).
 use crate::identification::blocked_qr::BlockedQr;
 use crate::identification::output_error::OutputError;
 use crate::identification::problem::{sum_of_squares, LeastSquares};
 use crate::identification::search::Linearised;
+use crate::identification::sensor_levels::{with_sensor_levels, SensorRows};
 use crate::identification::uncertainty::{
     cramer_rao_blocked, cramer_rao_mapped, CramerRao, UncertaintyError, UncertaintySettings,
 };
@@ -55,17 +58,29 @@ pub(super) struct Bounds {
 /// The bounds at `u`, from the Jacobian a search ended with there
 /// (`linearised`) if the criterion's residuals at `u` are still its
 /// residuals bit for bit (same weights, whitening and steps), otherwise
-/// from a simulation with sensitivities.
+/// from a simulation with sensitivities. `sensor_levels`: the covariance
+/// takes each sensor's own noise level (equal weights), not eq. 26's one
+/// s².
 pub(super) fn at(
     problem: &OutputError<'_>,
     u: &[f64],
     linearised: Option<&Linearised>,
     settings: &UncertaintySettings,
+    sensor_levels: bool,
 ) -> Bounds {
     let (n, r) = (problem.n_residuals(), problem.n_params());
     let mut ws = problem.workspace();
     let mut res = vec![0.0; n];
     let dx_du = problem.dx_du(u);
+    let levels = sensor_levels && problem.weights().len() > 1;
+    let finish = |bounds: Result<CramerRao, UncertaintyError>, sensors: Option<Vec<SensorRows>>| {
+        bounds
+            .map_err(BoundsError::Analysis)
+            .map(|b| match sensors {
+                Some(rows) => with_sensor_levels(b, &rows, &dx_du, problem.widths(), settings),
+                None => b,
+            })
+    };
     if let Some(l) = linearised {
         let same = problem.residuals(&mut ws, u, &mut res).is_ok()
             && res
@@ -75,8 +90,10 @@ pub(super) fn at(
         if same && l.jacobian.shape() == (n, r) {
             let ssr = sum_of_squares(&res);
             let bounds = cramer_rao_mapped(&l.jacobian, ssr, &dx_du, problem.widths(), settings);
+            let sensors =
+                levels.then(|| SensorRows::split(&l.jacobian, &res, &problem.weight_samples()));
             return Bounds {
-                cramer_rao: bounds.map_err(BoundsError::Analysis),
+                cramer_rao: finish(bounds, sensors),
                 s2: Some(ssr / (n - r - 1) as f64),
             };
         }
@@ -85,10 +102,14 @@ pub(super) fn at(
         let mut qr = BlockedQr::new(r);
         problem
             .residuals_factor(&mut ws, u, &mut res, &mut qr)
-            .map(|()| {
+            .and_then(|()| {
                 let ssr = sum_of_squares(&res);
                 let bounds = cramer_rao_blocked(&qr, ssr, &dx_du, problem.widths(), settings);
-                (bounds, ssr)
+                let sensors = match levels && bounds.is_ok() {
+                    true => Some(sensor_factors(problem, u, &res)?),
+                    false => None,
+                };
+                Ok((bounds, sensors, ssr))
             })
     } else {
         let mut jac = DMatrix::zeros(n, r);
@@ -97,7 +118,9 @@ pub(super) fn at(
             .map(|()| {
                 let ssr = sum_of_squares(&res);
                 let bounds = cramer_rao_mapped(&jac, ssr, &dx_du, problem.widths(), settings);
-                (bounds, ssr)
+                let sensors =
+                    levels.then(|| SensorRows::split(&jac, &res, &problem.weight_samples()));
+                (bounds, sensors, ssr)
             })
     };
     match analysis {
@@ -105,9 +128,42 @@ pub(super) fn at(
             cramer_rao: Err(BoundsError::Simulation(e)),
             s2: None,
         },
-        Ok((cramer_rao, ssr)) => Bounds {
-            cramer_rao: cramer_rao.map_err(BoundsError::Analysis),
+        Ok((cramer_rao, sensors, ssr)) => Bounds {
+            cramer_rao: finish(cramer_rao, sensors),
             s2: Some(ssr / (n - r - 1) as f64),
         },
     }
+}
+
+/// Each sensor's rows of a Jacobian taken by blocks: the sensor's alone
+/// (the others weighted 0), one simulation with sensitivities each, as
+/// the Gram matrix of their triangular factor; their residuals from `res`,
+/// the whole criterion's at `u`.
+fn sensor_factors(
+    problem: &OutputError<'_>,
+    u: &[f64],
+    res: &[f64],
+) -> Result<Vec<SensorRows>, SimulationError> {
+    let (weights, counts) = (problem.weights(), problem.weight_samples());
+    let mut one = problem.clone();
+    let mut ws = problem.workspace();
+    let mut scratch = vec![0.0; res.len()];
+    let mut qr = BlockedQr::new(problem.n_params());
+    let mut start = 0;
+    let mut sensors = Vec::with_capacity(weights.len());
+    for (c, &rows) in counts.iter().enumerate() {
+        let alone: Vec<f64> = (0..weights.len())
+            .map(|k| if k == c { weights[k] } else { 0.0 })
+            .collect();
+        one.set_weights(&alone);
+        one.residuals_factor(&mut ws, u, &mut scratch, &mut qr)?;
+        let ssr = sum_of_squares(&res[start..start + rows]);
+        start += rows;
+        sensors.push(SensorRows {
+            gram: qr.r().transpose() * qr.r(),
+            ssr,
+            rows,
+        });
+    }
+    Ok(sensors)
 }

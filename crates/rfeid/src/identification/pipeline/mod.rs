@@ -163,6 +163,7 @@ fn finish_stages(
         &best.u,
         best.linearised.as_ref(),
         &settings.uncertainty,
+        settings.weighting == Weighting::Equal,
     );
     let t_bounds = t_bounds.elapsed().as_secs_f64();
     let t_profiles = Instant::now();

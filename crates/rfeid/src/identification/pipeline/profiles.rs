@@ -129,7 +129,7 @@ impl Shared<'_, '_> {
             u_hat,
             cost_hat: self.best.cost,
             index: j,
-            threshold: threshold() * self.s2,
+            threshold: threshold() * self.scale(j),
             direction: direction.as_deref(),
         };
         let observe = || {};
@@ -148,6 +148,19 @@ impl Shared<'_, '_> {
         let profile = self.record(j, &lower, &upper);
         self.progress.profile_done(&profile.name);
         profile
+    }
+
+    /// The scale of column j's ΔJ: s² (eq. 29), times the ratio κ_j of its
+    /// variance to eq. 26's where the bounds take each sensor's own noise
+    /// level ([`CramerRao::variance_ratio`]), so that the profile interval
+    /// and the Wald interval estimate the same spread.
+    fn scale(&self, j: usize) -> f64 {
+        self.s2 * self.ratio(j)
+    }
+
+    /// κ_j ([`CramerRao::variance_ratio`]; 1 without bounds).
+    fn ratio(&self, j: usize) -> f64 {
+        self.cramer_rao.map_or(1.0, |c| c.variance_ratio(j))
     }
 
     /// The normalised standard error of column j (eq. 26, divided by
@@ -181,10 +194,11 @@ impl Shared<'_, '_> {
     }
 
     /// `du_i/du_j` along the bounds' linearised profile: the regression of
-    /// x_i on x_j in the covariance D² (eq. 26), `D²_ij / D²_jj`, in
-    /// normalised coordinates.
+    /// x_i on x_j in the covariance D² (eq. 26, with one s²: the
+    /// criterion's curvature), `D²_ij / D²_jj`, in normalised coordinates.
     fn direction(&self, j: usize) -> Option<Vec<f64>> {
-        let c = &self.cramer_rao?.covariance;
+        let bounds = self.cramer_rao?;
+        let c = bounds.pooled.as_ref().unwrap_or(&bounds.covariance);
         let dx_du = self.problem.dx_du(&self.best.u);
         let d: Vec<f64> = (0..c.nrows())
             .map(|i| match i == j {
@@ -227,7 +241,11 @@ impl Shared<'_, '_> {
             refits
                 .iter()
                 .map(|r| {
-                    let d = r.end.as_ref().ok().map(|e| (e.cost - criterion) / self.s2);
+                    let d = r
+                        .end
+                        .as_ref()
+                        .ok()
+                        .map(|e| (e.cost - criterion) / self.scale(j));
                     (map.to_physical(r.at), d)
                 })
                 .collect()
@@ -239,6 +257,7 @@ impl Shared<'_, '_> {
             std_error,
             criterion,
             s2: self.s2,
+            variance_ratio: self.ratio(j),
             threshold: t,
             wald: std_error.map(|s| [estimate - t.sqrt() * s, estimate + t.sqrt() * s]),
             lower: interval_end(estimate, &outward(lower), lo, t),

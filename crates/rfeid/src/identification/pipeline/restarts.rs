@@ -150,7 +150,15 @@ fn ridge(
         .searches
         .iter()
         .min_by(|a, b| a.cost.total_cmp(&b.cost))?;
-    let bounds = bounds::at(problem, &best.u, best.linearised.as_ref(), &s.uncertainty);
+    // Whether parameters can be told apart is the Fisher matrix's shape:
+    // eq. 26 with one s² is enough.
+    let bounds = bounds::at(
+        problem,
+        &best.u,
+        best.linearised.as_ref(),
+        &s.uncertainty,
+        false,
+    );
     let mut involved: Vec<usize> = match bounds.cramer_rao {
         Ok(c) => c
             .warnings

@@ -143,8 +143,16 @@ pub struct ParameterProfile {
     /// J_min, the criterion the profile's ΔJ are taken from: the estimate's,
     /// or a refit's if one went lower.
     pub criterion: f64,
-    /// s² (eq. 29), the scale of ΔJ, as the bounds take it.
+    /// s² (eq. 29), as the bounds take it.
     pub s2: f64,
+    /// κ, the estimate's variance over eq. 26's with the one s²
+    /// ([`crate::identification::uncertainty::CramerRao::variance_ratio`]):
+    /// 1 unless the bounds take each sensor's own noise level (equal
+    /// weights, [`crate::identification::sensor_levels`]). ΔJ is scaled
+    /// by κ s², so that the profile and Wald intervals estimate the same
+    /// spread.
+    #[serde(default = "one")]
+    pub variance_ratio: f64,
     /// The threshold of ΔJ/s², χ²₁(0.95).
     pub threshold: f64,
     /// The Wald interval `x̂ ± √threshold · std_error`, SI (not clipped to
@@ -164,14 +172,24 @@ pub struct ParameterProfile {
 }
 
 impl ParameterProfile {
-    /// ΔJ/s² at each point, in the order of `points` (`None` where the
+    /// ΔJ/(κ s²) at each point, in the order of `points` (`None` where the
     /// refit failed).
     pub fn statistic(&self) -> Vec<Option<f64>> {
         self.points
             .iter()
-            .map(|p| p.criterion.map(|c| (c - self.criterion) / self.s2))
+            .map(|p| p.criterion.map(|c| (c - self.criterion) / self.scale()))
             .collect()
     }
+
+    /// κ s², the scale of ΔJ.
+    pub fn scale(&self) -> f64 {
+        self.variance_ratio * self.s2
+    }
+}
+
+/// κ of a profile written before it was recorded.
+fn one() -> f64 {
+    1.0
 }
 
 /// The end of the interval on one side: `outward` are the points of that
