@@ -19,6 +19,7 @@ mod import_formats;
 mod interruption;
 mod joint_laws;
 mod mutation;
+mod outside_fixes;
 mod outputs_and_failures;
 mod profiles_cli;
 mod report_and_output;
