@@ -32,7 +32,10 @@ fn design_threads_out_of_range_is_refused() {
             out.as_os_str(),
         ]);
         assert_eq!(code, Some(2), "--threads {t}: {err}");
-        assert!(err.contains(&format!("--threads {t}: must be 1 to 1024")), "{err}");
+        assert!(
+            err.contains(&format!("--threads {t}: must be 1 to 1024")),
+            "{err}"
+        );
         assert!(!out.exists(), "--threads {t} wrote {}", out.display());
     }
 }
@@ -66,7 +69,10 @@ fn design_set_given_twice_is_refused() {
         "a_n1=400 daN/um^2".as_ref(),
     ]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("a_n1 is already set by --set 'a_n1=380"), "{err}");
+    assert!(
+        err.contains("a_n1 is already set by --set 'a_n1=380"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -85,6 +91,96 @@ fn simulate_noise_beyond_readable_data_is_refused() {
         "1".as_ref(),
     ]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("--noise") && err.contains("overflows"), "{err}");
+    assert!(
+        err.contains("--noise") && err.contains("overflows"),
+        "{err}"
+    );
     assert!(!out.exists());
+}
+
+/// One body whose x spring is two parameters that act only as their sum
+/// (k1 + k2), and one candidate: F is singular whatever is chosen.
+const SINGULAR_MODEL: &str = "[simulation]\n\
+         duration = 0.1\n\
+         sample_rate = 1000.0\n\
+         substeps = 20\n\
+         \n\
+         [[body]]\n\
+         name = \"mass\"\n\
+         mass = 10.0\n\
+         inertia = [0.1, 0.2, 0.3]\n\
+         com = [0.0, 0.0, 0.0]\n\
+         \n\
+         [[parameter]]\n\
+         name = \"k1\"\n\
+         value = 1.0e5\n\
+         min = 0.5e5\n\
+         max = 2.0e5\n\
+         \n\
+         [[parameter]]\n\
+         name = \"k2\"\n\
+         value = 1.0e5\n\
+         min = 0.5e5\n\
+         max = 2.0e5\n\
+         \n\
+         [[element]]\n\
+         name = \"e1\"\n\
+         body = \"mass\"\n\
+         to = \"ground\"\n\
+         at = [0.0, 0.0, 0.0]\n\
+         ux = { k = \"k1\", c = 20.0 }\n\
+         uy = { k = 1e5, c = 20.0 }\n\
+         uz = { k = 1e5, c = 20.0 }\n\
+         rx = { k = 1e4, c = 2.0 }\n\
+         ry = { k = 1e4, c = 2.0 }\n\
+         rz = { k = 1e4, c = 2.0 }\n\
+         \n\
+         [[element]]\n\
+         name = \"e2\"\n\
+         body = \"mass\"\n\
+         to = \"ground\"\n\
+         at = [0.0, 0.0, 0.0]\n\
+         ux = { k = \"k2\" }\n\
+         \n\
+         [[excitation]]\n\
+         body = \"mass\"\n\
+         at = [0.0, 0.0, 0.0]\n\
+         direction = [1, 0, 0]\n\
+         signal = { type = \"sine\", amplitude = 100.0, frequency = 25.0 }\n\
+         \n\
+         [[sensor]]\n\
+         name = \"ax\"\n\
+         body = \"mass\"\n\
+         at = [0.0, 0.0, 0.0]\n\
+         direction = [1, 0, 0]\n\
+         quantity = \"acceleration\"\n\
+         noise = \"1e-3 m/s^2\"\n\
+         \n\
+         [[sensor]]\n\
+         name = \"cand_y\"\n\
+         body = \"mass\"\n\
+         at = [0.0, 0.0, 0.0]\n\
+         direction = [0, 1, 0]\n\
+         quantity = \"acceleration\"\n\
+         noise = \"1e-3 m/s^2\"\n\
+         candidate = true\n";
+
+#[test]
+fn design_over_box_with_a_singular_fisher_matrix_says_so() {
+    let dir = scratch_dir("design-singular");
+    let model = dir.join("base.toml");
+    std::fs::write(&model, SINGULAR_MODEL).unwrap();
+    let o = rfeid()
+        .args(["design".as_ref(), model.as_os_str()])
+        .args(["--threads", "1", "--choose", "1", "--over-box", "8"])
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{}", flat(&o.stderr));
+    for bad in ["NaN", "= -inf", "above inf", "number inf", "e^", "0.0000"] {
+        assert!(!out.contains(bad), "'{bad}' in:\n{out}");
+    }
+    assert!(out.contains("8 of 8 points would choose it"), "{out}");
+    assert!(out.contains("singular at 8 of 8 points"), "{out}");
+    assert!(out.contains("k1, k2 cannot be told apart"), "{out}");
 }
