@@ -125,10 +125,12 @@ fn not_set_by_experiments(model: &Model, i: usize, s: &str) -> Result<(), SetErr
 /// file sets itself, is refused.
 pub fn fixed(model: Model, sets: &[String]) -> Result<Model, SetError> {
     let parsed = parse_once(&model, sets)?;
-    sets.iter().zip(parsed).try_fold(model, |model, (s, (i, value))| {
-        not_set_by_experiments(&model, i, s)?;
-        model.with_fixed(i, value).map_err(set_failure)
-    })
+    sets.iter()
+        .zip(parsed)
+        .try_fold(model, |model, (s, (i, value))| {
+            not_set_by_experiments(&model, i, s)?;
+            model.with_fixed(i, value).map_err(set_failure)
+        })
 }
 
 /// The model with `tolerance` and `substeps` applied to its sampling.
