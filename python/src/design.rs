@@ -18,6 +18,8 @@ pub struct PyDesign {
     model: Model,
     design: Design,
     title: String,
+    /// The model file and its tables, which the report must not replace.
+    inputs: Vec<PathBuf>,
 }
 
 #[pymethods]
@@ -32,12 +34,12 @@ impl PyDesign {
     }
 
     /// Writes the HTML report (the candidates on the bodies, the predicted
-    /// standard errors) into `dir`, created if missing (its parent must
-    /// exist); returns report.html's path.
+    /// standard errors) into `dir` by the rules of `rfeid design --report
+    /// DIR` ([`write_report`]); returns report.html's path.
     fn report(&self, dir: PathBuf) -> PyResult<PathBuf> {
         let files =
             rfeid::report::design::design_report_files(&self.model, &self.design, &self.title);
-        write_report(&dir, &files)
+        write_report(&dir, &files, &self.inputs)
     }
 }
 
@@ -65,7 +67,8 @@ pub fn design(
         false => option_text(e),
     })?;
     let mut values = model.model.nominal();
-    let notes = set_values::apply_sets_to_campaign(&model.model, &set, &mut values).map_err(model_error)?;
+    let notes =
+        set_values::apply_sets_to_campaign(&model.model, &set, &mut values).map_err(model_error)?;
     let at = at_values(model.model.clone(), values).map_err(model_error)?;
     let cancel = Cancel::new();
     let settings = DesignSettings {
@@ -87,7 +90,13 @@ pub fn design(
         DesignError::Cancelled => super::errors::failed(e),
         other => model_error(format!("{label}: {other}")),
     })?;
+    let inputs = model
+        .path
+        .iter()
+        .cloned()
+        .chain(model.model.files.iter().cloned());
     let design = PyDesign {
+        inputs: inputs.collect(),
         model: at,
         design: found,
         title: label,
