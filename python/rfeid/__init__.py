@@ -96,6 +96,29 @@ def _set_list(set: SetValues) -> List[str]:
     return out
 
 
+def _int(name: str, value: Any, optional: bool = False) -> Optional[int]:
+    """An integer keyword as given: a ``bool``, ``float`` or ``str`` is a
+    ``TypeError`` naming the keyword (never truncated or parsed), a negative
+    one a ``ValueError``."""
+    if value is None and optional:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name}={value!r}: expected an integer, not {type(value).__name__}")
+    if value < 0:
+        raise ValueError(f"{name}={value}: must not be negative")
+    return int(value)
+
+
+def _float(name: str, value: Any, optional: bool = False) -> Optional[float]:
+    """A real keyword as given: a ``bool``, ``str`` or complex number is a
+    ``TypeError`` naming the keyword."""
+    if value is None and optional:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}={value!r}: expected a real number, not {type(value).__name__}")
+    return float(value)
+
+
 @dataclass(frozen=True)
 class Parameter:
     """A parameter of a model, as :attr:`Model.parameters` lists it.
@@ -237,13 +260,20 @@ class Model:
         Raises :class:`ModelError` for an unknown parameter, a value of the
         wrong dimension or a bad ``tolerance``/``substeps``, ``ValueError``
         for a negative ``noise`` or a ``noise_corner`` without ``noise``,
-        :class:`IdentificationError` if the simulation fails. The GIL is
-        released while it runs.
+        :class:`IdentificationError` if the simulation fails, ``TypeError``
+        naming the keyword for a value of the wrong type (``seed=3.7``,
+        ``noise=True``: never truncated or converted). The GIL is released
+        while it runs.
         """
         if noise_corner is not None and noise is None:
             raise ValueError("noise_corner: needs noise")
         time, values, n, c, notes = self._native.simulate(
-            _set_list(set), noise, noise_corner, int(seed), tolerance, substeps
+            _set_list(set),
+            _float("noise", noise, True),
+            _float("noise_corner", noise_corner, True),
+            _int("seed", seed),
+            _float("tolerance", tolerance, True),
+            _int("substeps", substeps, True),
         )
         for note in notes:
             warnings.warn(note, stacklevel=2)
@@ -325,10 +355,21 @@ class Verdict:
 
 
 def _column(label: str, name: str, values: Any) -> bytes:
-    """One column as float64 bytes; a column that is not numeric is a
-    :class:`DataError` naming it."""
+    """One column as float64 bytes; a column that is not real numbers
+    (strings, booleans, complex numbers) is a :class:`DataError` naming it."""
+    raw = np.asarray(values)
+    kind = raw.dtype.kind
+    if kind == "O" and raw.size:
+        flat = raw.ravel()
+        if any(isinstance(v, (bool, np.bool_)) for v in flat):
+            kind = "b"
+        elif any(isinstance(v, (complex, np.complexfloating)) for v in flat):
+            kind = "c"
+    if kind in "bc":
+        what = "boolean" if kind == "b" else "complex"
+        raise DataError(f"{label}: column '{name}' is {what}; a signal is real numbers (float)")
     try:
-        array = np.asarray(values, dtype=np.float64)
+        array = np.asarray(raw, dtype=np.float64)
     except (TypeError, ValueError) as e:
         raise DataError(f"{label}: column '{name}' is not numeric: {e}") from None
     if array.ndim != 1:
@@ -475,7 +516,9 @@ def identify(
     ``[[experiment]]`` entries (campaigns are for the command line),
     :class:`DataError` for data that do not fit the model (a missing
     column, another sample rate, a value that is not finite: named), and
-    :class:`IdentificationError` for a run that cannot be done. The GIL is
+    :class:`IdentificationError` for a run that cannot be done;
+    ``TypeError`` naming the keyword for a value of the wrong type
+    (``plan=True``, ``plan=4.0``, ``from_="0.1"``: never converted). The GIL is
     released while it runs; Ctrl-C raises ``KeyboardInterrupt`` within
     about a second and cancels the run.
     """
@@ -488,21 +531,21 @@ def identify(
             model._native,
             source,
             set=_set_list(set),
-            plan=plan,
-            starts=starts,
+            plan=_int("plan", plan),
+            starts=_int("starts", starts),
             method=method,
             weights=weights,
             noise_model=noise_model,
-            window=window,
-            from_=float(from_),
-            threads=threads,
+            window=_float("window", window, True),
+            from_=_float("from_", from_),
+            threads=_int("threads", threads, True),
             start=start,
-            tolerance=tolerance,
-            substeps=substeps,
-            jacobian_memory=jacobian_memory,
+            tolerance=_float("tolerance", tolerance, True),
+            substeps=_int("substeps", substeps, True),
+            jacobian_memory=_int("jacobian_memory", jacobian_memory, True),
             progress=bar,
             profiles=_profile_names(profiles),
-            profile_points=profile_points,
+            profile_points=_int("profile_points", profile_points),
         )
     finally:
         if bar is not None:
@@ -625,8 +668,12 @@ class Identification:
 
     def report(self, directory: PathLike) -> str:
         """Writes the HTML report (report.html and SVG figures) into
-        ``directory``, created if missing (its parent must exist; else
-        ``OSError``). Returns report.html's path, a ``str``."""
+        ``directory`` by the rules of ``rfeid identify --report DIR``: a new
+        directory (its parent must exist) or one holding only an earlier
+        report, which is replaced as a whole (no stale figures stay); a
+        directory holding anything else (``"."``, the model or data) is
+        refused with ``ValueError``, a failed write raises ``OSError``.
+        Returns report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
 
     def frf(
@@ -824,15 +871,20 @@ def design(
     points of the box (needs ``choose``); ``threads``: worker threads (all
     cores).
 
-    Raises ``ValueError`` for ``choose=0`` or ``over_box`` without
-    ``choose``, :class:`ModelError` for a model without candidate sensors
+    Raises ``ValueError`` for ``choose=0``, ``threads`` outside 1 to 1024
+    or ``over_box`` without ``choose``, ``TypeError`` naming the keyword for
+    a value of the wrong type (``choose=True``, ``threads=2.0``), :class:`ModelError` for a model without candidate sensors
     (with ``choose``) or a ``set`` value outside its box. Ctrl-C raises
     ``KeyboardInterrupt`` within about a second.
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
     native, notes = _rfeid.design(
-        model._native, set=_set_list(set), choose=choose, over_box=over_box, threads=threads
+        model._native,
+        set=_set_list(set),
+        choose=_int("choose", choose, True),
+        over_box=_int("over_box", over_box, True),
+        threads=_int("threads", threads, True),
     )
     for note in notes:
         warnings.warn(note, stacklevel=2)
@@ -891,8 +943,11 @@ class Design:
 
     def report(self, directory: PathLike) -> str:
         """Writes the HTML report (the candidates on the bodies, the
-        predicted relative standard errors) into ``directory``, created if
-        missing (its parent must exist; else ``OSError``). Returns
+        predicted relative standard errors) into ``directory`` by the rules
+        of ``rfeid design --report DIR``: a new directory (its parent must
+        exist) or one holding only an earlier report, replaced as a whole;
+        anything else (``"."``, the model's directory) is refused with
+        ``ValueError``, a failed write raises ``OSError``. Returns
         report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
 

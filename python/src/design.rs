@@ -1,6 +1,6 @@
 //! `design`: `rfeid design` from Python (SPEC §6): predicted standard
 //! errors of a planned test, and the D-optimal choice of candidate sensors.
-use super::errors::{model_error, option_text, simulation_error};
+use super::errors::{model_error, option_error, option_text, simulation_error};
 use super::model::PyModel;
 use super::result::write_report;
 use super::watch::{watched, Counters};
@@ -8,6 +8,7 @@ use pyo3::prelude::*;
 use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design as run_design, Design, DesignError, DesignSettings};
 use rfeid::identification::cancel::Cancel;
+use rfeid::identification::options::check_threads;
 use rfeid::model::{set_values, Model};
 use std::path::PathBuf;
 
@@ -17,6 +18,8 @@ pub struct PyDesign {
     model: Model,
     design: Design,
     title: String,
+    /// The model file and its tables, which the report must not replace.
+    inputs: Vec<PathBuf>,
 }
 
 #[pymethods]
@@ -31,12 +34,12 @@ impl PyDesign {
     }
 
     /// Writes the HTML report (the candidates on the bodies, the predicted
-    /// standard errors) into `dir`, created if missing (its parent must
-    /// exist); returns report.html's path.
+    /// standard errors) into `dir` by the rules of `rfeid design --report
+    /// DIR` ([`write_report`]); returns report.html's path.
     fn report(&self, dir: PathBuf) -> PyResult<PathBuf> {
         let files =
             rfeid::report::design::design_report_files(&self.model, &self.design, &self.title);
-        write_report(&dir, &files)
+        write_report(&dir, &files, &self.inputs)
     }
 }
 
@@ -58,12 +61,14 @@ pub fn design(
         .path
         .as_ref()
         .map_or("the model".into(), |p| p.display().to_string());
+    check_threads(threads).map_err(|e| option_error(&e))?;
     check_request(&model.model, &label, choose, over_box).map_err(|e| match e.of_model() {
         true => model_error(e),
         false => option_text(e),
     })?;
     let mut values = model.model.nominal();
-    let notes = set_values::apply_sets(&model.model, &set, &mut values).map_err(model_error)?;
+    let notes =
+        set_values::apply_sets_to_campaign(&model.model, &set, &mut values).map_err(model_error)?;
     let at = at_values(model.model.clone(), values).map_err(model_error)?;
     let cancel = Cancel::new();
     let settings = DesignSettings {
@@ -85,7 +90,13 @@ pub fn design(
         DesignError::Cancelled => super::errors::failed(e),
         other => model_error(format!("{label}: {other}")),
     })?;
+    let inputs = model
+        .path
+        .iter()
+        .cloned()
+        .chain(model.model.files.iter().cloned());
     let design = PyDesign {
+        inputs: inputs.collect(),
         model: at,
         design: found,
         title: label,

@@ -1,14 +1,13 @@
 //! The result of `identify`: RESULT.json's document, and the report.
 use super::errors::{failed, model_error};
-use pyo3::exceptions::PyOSError;
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::Outcome;
-use rfeid::io::atomic::write_atomically;
+use rfeid::io::report_dir::{write_report as write_report_dir, ReportDirError};
 use rfeid::model::Model;
 use rfeid::report::at_estimate::{render, RenderError};
 use rfeid::simulation::Response;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// An identification's result with what its report needs.
@@ -44,9 +43,9 @@ impl PyIdentification {
         Some((outcome, v.reasons.iter().map(|r| r.to_string()).collect()))
     }
 
-    /// Writes the HTML report (report.html and its SVG figures) into `dir`,
-    /// created if missing (its parent must exist); returns report.html's
-    /// path.
+    /// Writes the HTML report (report.html and its SVG figures) into `dir`
+    /// by the rules of `rfeid identify --report DIR` ([`write_report`]);
+    /// returns report.html's path.
     fn report(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
         let files = py
             .detach(|| {
@@ -63,7 +62,14 @@ impl PyIdentification {
                 RenderError::Simulation(_) => failed(e),
                 _ => model_error(e),
             })?;
-        write_report(&dir, &files)
+        let source = &self.result.source;
+        let inputs: Vec<PathBuf> = [&source.model, &source.data]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::from)
+            .chain(self.model.files.iter().cloned())
+            .collect();
+        write_report(&dir, &files, &inputs)
     }
 
     /// FRFs of the model linearised at rest (or at its static equilibrium
@@ -139,15 +145,19 @@ impl PyIdentification {
     }
 }
 
-/// Writes a report's files into `dir` (created if missing; its parent must
-/// exist), each whole or not at all; returns report.html's path.
-pub fn write_report(dir: &Path, files: &[(String, String)]) -> PyResult<PathBuf> {
-    let io = |e: std::io::Error| PyOSError::new_err(format!("{}: {e}", dir.display()));
-    if !dir.is_dir() {
-        std::fs::create_dir(dir).map_err(io)?;
-    }
-    for (name, text) in files {
-        write_atomically(&dir.join(name), |w| w.write_all(text.as_bytes())).map_err(io)?;
-    }
-    Ok(dir.join("report.html"))
+/// Writes a report's files into `dir` by the rules of `--report DIR`
+/// ([`rfeid::io::report_dir::write_report`]): a new directory (its parent
+/// must exist) or one holding only an earlier report, replaced as a whole,
+/// never one holding an input; returns report.html's path. A directory
+/// refused is a `ValueError`, a failed write an `OSError`.
+pub fn write_report(
+    dir: &Path,
+    files: &[(String, String)],
+    inputs: &[PathBuf],
+) -> PyResult<PathBuf> {
+    let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    write_report_dir(dir, files, &inputs).map_err(|e| match e {
+        ReportDirError::Refused { .. } => PyValueError::new_err(e.to_string()),
+        ReportDirError::Io { .. } => PyOSError::new_err(e.to_string()),
+    })
 }

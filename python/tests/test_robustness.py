@@ -99,3 +99,56 @@ def test_the_readmes_example_runs_as_written(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     exec(compile(block, "README.md", "exec"), {})
     assert (tmp_path / "out" / "report.html").exists()
+
+
+def test_options_of_the_wrong_type_are_refused_naming_the_keyword():
+    """Outside test 2026-11-27, W5: no value is truncated or converted."""
+    m = rfeid.Model.load(EXAMPLES / "knee-column" / "model.toml")
+    data = {"time": np.zeros(3)}
+    for call, keyword in [
+        (lambda: m.simulate(noise=0.02, seed=3.7), "seed"),
+        (lambda: m.simulate(noise=0.02, seed="3"), "seed"),
+        (lambda: m.simulate(noise=True), "noise"),
+        (lambda: rfeid.identify(m, data, plan=True), "plan"),
+        (lambda: rfeid.identify(m, data, from_="0.1"), "from_"),
+        (lambda: rfeid.design(m, choose=True), "choose"),
+        (lambda: rfeid.design(m, threads=2.0), "threads"),
+    ]:
+        with pytest.raises(TypeError, match=f"^{keyword}="):
+            call()
+    with pytest.raises(ValueError, match="^threads=0"):
+        rfeid.design(m, threads=0)
+
+
+def test_boolean_and_complex_columns_are_refused_naming_the_column():
+    """Outside test 2026-11-27, W7: a signal is real numbers."""
+    pd = pytest.importorskip("pandas")
+    m = rfeid.Model.load(EXAMPLES / "knee-column" / "model.toml")
+    frame = pd.DataFrame({"time": [0.0, 1e-3], "knee_ax": [0.5, -0.5]})
+    for bad in [frame.knee_ax + 1j, frame.knee_ax > 0, (frame.knee_ax > 0).astype("boolean")]:
+        with pytest.raises(rfeid.DataError, match="column 'knee_ax' is (boolean|complex)"):
+            rfeid.identify(m, frame.assign(knee_ax=bad), plan=1, threads=1)
+
+
+def test_reports_follow_the_command_lines_output_rules(tmp_path, monkeypatch):
+    """Outside test 2026-11-27, W2: `report(dir)` replaces an earlier report
+    as a whole and refuses a directory holding anything else."""
+    import shutil
+
+    shutil.copy(EXAMPLES / "knee-column" / "model.toml", tmp_path / "kc.toml")
+    m = rfeid.Model.load(tmp_path / "kc.toml")
+    d = rfeid.design(m, threads=1)
+    rep = tmp_path / "rep"
+    rep.mkdir()
+    (rep / "stale-figure.svg").write_text("<svg/>")
+    assert d.report(rep) == str(rep / "report.html")
+    assert not (rep / "stale-figure.svg").exists()
+    monkeypatch.chdir(tmp_path)
+    for where in [".", tmp_path]:
+        with pytest.raises(ValueError, match="holds .* not part of an rfeid report"):
+            d.report(where)
+    assert not (tmp_path / "report.html").exists()
+    (rep / "notes.txt").write_text("mine")
+    with pytest.raises(ValueError, match="notes.txt"):
+        d.report(rep)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kc.toml", "rep"]

@@ -20,6 +20,7 @@ mod interruption;
 mod joint_laws;
 mod mutation;
 mod outputs_and_failures;
+mod outside_fixes;
 mod profiles_cli;
 mod report_and_output;
 mod shard_files;

@@ -6,13 +6,14 @@ use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::run::design_text::print_design;
 use crate::run::failures::simulation_failure;
-use crate::run::inputs::{apply_sets, load};
+use crate::run::inputs::{apply_campaign_sets, load};
 use crate::run::limits::start_threads;
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design, DesignError, DesignSettings};
+use rfeid::identification::options::check_threads;
 
 /// Runs the command.
 pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
@@ -28,12 +29,13 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(dir) = &args.report {
         plan.report("--report", dir);
     }
+    check_threads(args.threads).map_err(Failure::input_msg)?;
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
     let label = args.model.display().to_string();
     check_request(&model, &label, args.choose, args.over_box).map_err(Failure::input_msg)?;
     let mut values = model.nominal();
-    apply_sets(&model, &args.set, &mut values)?;
+    apply_campaign_sets(&model, &args.set, &mut values)?;
     let model = at_values(model, values).map_err(Failure::input_msg)?;
     start_threads(args.threads)?;
     let settings = DesignSettings {

@@ -6,10 +6,10 @@ use super::resolve::Destination;
 use super::signals::{self, remove_path};
 use super::Checked;
 use crate::diagnostics::Failure;
+use rfeid::io::report_dir::{fill, swap, temporary_beside};
 use std::fs::OpenOptions;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// An output ready to be committed.
 #[derive(Debug)]
@@ -33,18 +33,6 @@ enum Staged {
 pub struct Batch<'a> {
     checked: &'a Checked,
     staged: Vec<Staged>,
-}
-
-/// A short hidden name beside `target`, unique in this process: a
-/// destination name of up to 255 bytes never makes it too long.
-fn temporary_beside(target: &Path) -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let name = format!(".rfeid-{}-{n}.tmp", std::process::id());
-    match target.parent() {
-        Some(dir) => dir.join(name),
-        None => PathBuf::from(name),
-    }
 }
 
 /// A failure while writing outputs that passed the checks (a full disk, say).
@@ -119,12 +107,7 @@ impl<'a> Batch<'a> {
         let tmp = temporary_beside(target);
         let mut registry = signals::lock();
         registry.add(tmp.clone());
-        let written = std::fs::create_dir(&tmp).and_then(|()| {
-            files
-                .iter()
-                .try_for_each(|(name, text)| create_file(&tmp.join(name), text.as_bytes()))?;
-            std::fs::File::open(&tmp)?.sync_all()
-        });
+        let written = fill(&tmp, files);
         if let Err(e) = written {
             remove_path(&tmp);
             registry.forget(&tmp);
@@ -215,16 +198,11 @@ fn commit_one(s: &Staged, registry: &mut signals::Registry) -> Result<(), Failur
             // the old one goes: old and new figures never mix.
             let old = temporary_beside(target);
             registry.add(old.clone());
-            std::fs::rename(target, &old).map_err(|e| write_failure(target, e))?;
-            if let Err(e) = std::fs::rename(tmp, target) {
-                let _ = std::fs::rename(&old, target);
-                registry.forget(&old);
-                return Err(write_failure(target, e));
-            }
+            let swapped = swap(tmp, target, true, &old);
+            registry.forget(&old);
+            swapped.map_err(|e| write_failure(target, e))?;
             registry.forget(tmp);
             sync_parent(target);
-            remove_path(&old);
-            registry.forget(&old);
             Ok(())
         }
     }

@@ -119,9 +119,7 @@ fn collides(d: &Destination, input: &Path) -> bool {
         Destination::Special(p) | Destination::File { target: p, .. } => {
             identity(p).as_ref() == Some(&id)
         }
-        Destination::Dir { target, .. } => std::fs::canonicalize(input)
-            .map(|c| c.starts_with(target))
-            .unwrap_or(false),
+        Destination::Dir { target, .. } => rfeid::io::report_dir::holds(target, input),
     }
 }
 

@@ -113,18 +113,6 @@ pub fn file_destination(path: &Path) -> Result<Destination, String> {
     }
 }
 
-/// Names an rfeid report may hold: `report.html`, SVG figures, and hidden
-/// temporaries an earlier, killed rfeid left (`.rfeid-…`, `.NAME.tmp-PID`).
-fn is_report_file(name: &std::ffi::OsStr) -> bool {
-    let name = name.to_string_lossy();
-    let debris = name.starts_with(".rfeid-")
-        || (name.starts_with('.')
-            && name.rsplit_once(".tmp-").is_some_and(|(_, pid)| {
-                !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit())
-            }));
-    name == "report.html" || name.ends_with(".svg") || debris
-}
-
 /// Where a report directory named `path` goes. An existing directory is
 /// replaced as a whole, so it must hold nothing but an earlier report.
 pub fn dir_destination(path: &Path) -> Result<Destination, String> {
@@ -139,24 +127,8 @@ pub fn dir_destination(path: &Path) -> Result<Destination, String> {
         }),
         Err(e) => Err(e.to_string()),
         Ok(m) if m.is_dir() => {
-            let entries = std::fs::read_dir(&target).map_err(|e| e.to_string())?;
-            for entry in entries {
-                let entry = entry.map_err(|e| e.to_string())?;
-                let is_file = entry.file_type().map(|t| t.is_file()).unwrap_or(false);
-                if !is_file || !is_report_file(&entry.file_name()) {
-                    return Err(format!(
-                        "the directory holds '{}', which is not part of an rfeid report; \
-                         a report replaces its directory as a whole, so give a new or empty \
-                         directory, or one holding an earlier report",
-                        entry.file_name().to_string_lossy()
-                    ));
-                }
-            }
-            let canonical =
-                std::fs::canonicalize(&target).map_err(|e| format!("{}: {e}", target.display()))?;
-            if canonical.parent().is_none() {
-                return Err("is a root directory".into());
-            }
+            // The rules the Python module's `report` follows too.
+            let canonical = rfeid::io::report_dir::check_existing(&target)?;
             settle(&canonical).map(|target| Destination::Dir {
                 target,
                 exists: true,

@@ -2,9 +2,11 @@
 //! errors (placed, and chosen with `--choose`), the choice's certificate,
 //! the experiments' worth, and the JSON of SPEC §6.
 use crate::format::{sig, table};
+use rfeid::design::choose::Search;
 use rfeid::design::json::parameter;
+use rfeid::design::over_box::BoxChoice;
 use rfeid::design::predict::{warning_texts, Prediction};
-use rfeid::design::Design;
+use rfeid::design::{ChosenSet, Design};
 use rfeid::model::Model;
 
 /// The table of predicted standard errors: placed, and chosen.
@@ -61,9 +63,13 @@ pub fn print_design(model: &Model, d: &Design) {
     print!("{}", parameter_table(model, d));
     println!();
     let cond = |p: &Prediction| p.condition_number.map_or("-".into(), |c| sig(c, 3));
+    let log_det = |v: f64| match v.is_finite() {
+        true => format!("{v:.3}"),
+        false => "- (F singular)".into(),
+    };
     println!(
-        "placed: log det F = {:.3}, condition number {}, N = {}",
-        d.placed.log_det,
+        "placed: log det F = {}, condition number {}, N = {}",
+        log_det(d.placed.log_det),
         cond(&d.placed),
         d.placed.observations
     );
@@ -71,52 +77,10 @@ pub fn print_design(model: &Model, d: &Design) {
         println!("  warning (placed): {w}");
     }
     if let Some(c) = &d.chosen {
-        let r = d.parts.columns.len() as f64;
-        let gain = c.prediction.log_det - d.placed.log_det;
-        println!(
-            "chosen ({}): {}",
-            match c.search {
-                rfeid::design::choose::Search::Exhaustive => "every subset tried",
-                rfeid::design::choose::Search::GreedyExchange => "greedy, then exchanges",
-            },
-            c.names.join(", ")
-        );
-        println!(
-            "with them: log det F = {:.3} (det ratio e^{:.2}, {:.2}× the information per parameter), condition number {}",
-            c.prediction.log_det,
-            gain,
-            (gain / r).exp(),
-            cond(&c.prediction)
-        );
-        println!(
-            "optimality: no set of {} reaches log det F above {:.3} (convex relaxation), so the choice's D-efficiency is at least {:.4}",
-            c.chosen.len(),
-            c.upper_bound,
-            c.efficiency_at_least
-        );
-        for w in warning_texts(&d.parts.columns, &c.prediction) {
-            println!("  warning (chosen): {w}");
-        }
+        print_choice(d, c);
     }
     if let Some(b) = &d.over_box {
-        let names = |s: &[usize]| -> String {
-            s.iter()
-                .map(|&i| model.candidates[i].name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let mut eff = b.efficiency.clone();
-        eff.sort_by(f64::total_cmp);
-        println!(
-            "over the box ({} LP_τ points{}): chosen for the average log det; at the values alone: {}; {} of {} points would choose it or an equally good set on their own; its D-efficiency against each point's own best: min {:.3}, median {:.3}",
-            b.points,
-            if b.failed > 0 { format!(", {} failed and left out", b.failed) } else { String::new() },
-            names(&b.at_values),
-            b.agree,
-            b.points,
-            eff.first().copied().unwrap_or(f64::NAN),
-            eff.get(eff.len() / 2).copied().unwrap_or(f64::NAN)
-        );
+        print_over_box(model, b);
     }
     if !d.experiments.is_empty() {
         println!("experiments (information each adds; the campaign's D-efficiency without it):");
@@ -126,5 +90,88 @@ pub fn print_design(model: &Model, d: &Design) {
                 e.name, e.log_det_gain, e.efficiency_without
             );
         }
+    }
+}
+
+/// The chosen sensors, what they add and the choice's certificate; with a
+/// Fisher matrix still singular, that the choice cannot be judged by its
+/// information (no NaN or infinite numbers).
+fn print_choice(d: &Design, c: &ChosenSet) {
+    let r = d.parts.columns.len() as f64;
+    let gain = c.prediction.log_det - d.placed.log_det;
+    println!(
+        "chosen ({}): {}",
+        match c.search {
+            Search::Exhaustive => "every subset tried",
+            Search::GreedyExchange => "greedy, then exchanges",
+        },
+        c.names.join(", ")
+    );
+    if !c.prediction.log_det.is_finite() {
+        let why = c
+            .prediction
+            .error
+            .as_deref()
+            .unwrap_or("the Fisher matrix is singular");
+        println!(
+            "with them: {why}; the choice cannot be judged by its information (no set of {} makes F regular): fix or tie the parameters named, or add other sensors",
+            c.chosen.len()
+        );
+        return;
+    }
+    println!(
+        "with them: log det F = {:.3} (det ratio {}, {} the information per parameter), condition number {}",
+        c.prediction.log_det,
+        if gain.is_finite() { format!("e^{gain:.2}") } else { "- (placed: singular)".into() },
+        if gain.is_finite() { format!("{:.2}×", (gain / r).exp()) } else { "-".into() },
+        c.prediction.condition_number.map_or("-".into(), |v| sig(v, 3))
+    );
+    println!(
+        "optimality: no set of {} reaches log det F above {:.3} (convex relaxation), so the choice's D-efficiency is at least {:.4}",
+        c.chosen.len(),
+        c.upper_bound,
+        c.efficiency_at_least
+    );
+    for w in warning_texts(&d.parts.columns, &c.prediction) {
+        println!("  warning (chosen): {w}");
+    }
+}
+
+/// The box design: the robust choice against the choice at the values and
+/// each point's own best; points where F is singular whatever is chosen
+/// are said to be so, and left out of the efficiencies.
+fn print_over_box(model: &Model, b: &BoxChoice) {
+    let names = |s: &[usize]| -> String {
+        s.iter()
+            .map(|&i| model.candidates[i].name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut eff: Vec<f64> = b
+        .efficiency
+        .iter()
+        .copied()
+        .filter(|e| e.is_finite())
+        .collect();
+    eff.sort_by(f64::total_cmp);
+    let spread = match (eff.first(), eff.get(eff.len() / 2)) {
+        (Some(min), Some(median)) => format!(
+            "its D-efficiency against each point's own best: min {min:.3}, median {median:.3}"
+        ),
+        _ => "its D-efficiency cannot be judged at any point".into(),
+    };
+    println!(
+        "over the box ({} LP_τ points{}): chosen for the average log det; at the values alone: {}; {} of {} points would choose it or an equally good set on their own; {spread}",
+        b.points,
+        if b.failed > 0 { format!(", {} failed and left out", b.failed) } else { String::new() },
+        names(&b.at_values),
+        b.agree,
+        b.points,
+    );
+    if b.singular > 0 {
+        println!(
+            "  warning (over the box): the Fisher matrix is singular at {} of {} points whatever is chosen (some parameters cannot be told apart there, see the warnings above): every choice is as good there, and none can be judged",
+            b.singular, b.points
+        );
     }
 }

@@ -43,6 +43,19 @@ pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<
     Ok(())
 }
 
+/// [`apply_sets`] for `design`, which runs every experiment of a campaign:
+/// a parameter an experiment sets is refused too
+/// ([`set_values::apply_sets_to_campaign`]).
+pub fn apply_campaign_sets(
+    model: &Model,
+    sets: &[String],
+    params: &mut [f64],
+) -> Result<(), Failure> {
+    set_values::apply_sets_to_campaign(model, sets, &mut params.to_vec())
+        .map_err(Failure::input_msg)?;
+    apply_sets(model, sets, params)
+}
+
 /// The model with parameters fixed for one run (`identify --set
 /// NAME=VALUE`, [`set_values::fixed`]).
 pub fn fixed(model: Model, sets: &[String]) -> Result<Model, Failure> {

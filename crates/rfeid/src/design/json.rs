@@ -168,6 +168,7 @@ pub fn design_json(model: &Model, d: &Design) -> Value {
                 "at_values": names(&b.at_values),
                 "points_agreeing": b.agree,
                 "efficiency": b.efficiency,
+                "points_singular": b.singular,
             }),
         );
     }

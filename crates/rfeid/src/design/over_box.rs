@@ -7,6 +7,7 @@ use super::fisher::{fisher_parts, FisherParts};
 use super::{DesignError, DesignSettings};
 use crate::identification::box_map::BoxMap;
 use crate::identification::plan::lp_tau_plan;
+use crate::identification::uncertainty::{cramer_rao_fisher, UncertaintySettings};
 use crate::model::Model;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -33,6 +34,9 @@ pub struct BoxChoice {
     /// own best, `exp((log det F(robust) − log det F(best))/r)` (NaN where
     /// every set is singular there).
     pub efficiency: Vec<f64>,
+    /// Points where F is singular whatever is chosen: there every choice is
+    /// as good (they count in `agree`), and none can be judged.
+    pub singular: usize,
 }
 
 /// Most memory the box's Fisher matrices may take (points × candidates ×
@@ -49,6 +53,16 @@ fn point_values(model: &Model, u: &[f64]) -> Vec<f64> {
         x[i] = BoxMap::new(lo, hi, p.scale).to_physical(ui);
     }
     x
+}
+
+/// Whether F of the placed sensors `base` with the candidates `chosen` is
+/// singular by the test of `identify`'s standard errors (a finite log det
+/// of a singular F is rounding).
+fn singular(base: &DMatrix<f64>, cand: &[DMatrix<f64>], chosen: &[usize]) -> bool {
+    let f = chosen.iter().fold(base.clone(), |m, &i| m + &cand[i]);
+    let ones = vec![1.0; f.ncols()];
+    let settings = UncertaintySettings::default();
+    cramer_rao_fisher(&f, 1 << 40, &ones, &ones, &settings).is_err()
 }
 
 /// The D-optimal K for the average over `n` LP_τ points of the box;
@@ -114,8 +128,10 @@ pub fn choose_over_box(
             let (b, c) = (&base[p..=p], &cand[p..=p]);
             let best = choose(b, c, k, settings.force_greedy);
             let mine = criterion(b, c, &robust.chosen);
-            if best.log_det == f64::NEG_INFINITY {
-                return (false, f64::NAN);
+            if best.log_det == f64::NEG_INFINITY || singular(&base[p], &cand[p], &best.chosen) {
+                // Every set is singular here (the best one is, to
+                // rounding): none is better than another.
+                return (true, f64::NAN);
             }
             let same = mine >= best.log_det - 1e-9 * best.log_det.abs().max(1.0);
             (same, ((mine - best.log_det) / r).exp().min(1.0))
@@ -130,5 +146,6 @@ pub fn choose_over_box(
         first_failure,
         agree: own.iter().filter(|o| o.0).count(),
         efficiency: own.iter().map(|o| o.1).collect(),
+        singular: own.iter().filter(|o| o.1.is_nan()).count(),
     })
 }

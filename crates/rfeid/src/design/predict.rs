@@ -80,8 +80,12 @@ fn error_text(columns: &[String], observations: usize, e: &UncertaintyError) -> 
             condition_number,
         } => {
             let names: Vec<&str> = parameters.iter().map(|&j| columns[j].as_str()).collect();
+            let cond = match condition_number.is_finite() {
+                true => format!("singular (scaled condition number {condition_number:.3e})"),
+                false => "exactly singular".into(),
+            };
             format!(
-                "the Fisher matrix is singular (scaled condition number {condition_number:.3e}): {} cannot be told apart by this test",
+                "the Fisher matrix is {cond}: {} cannot be told apart by this test",
                 names.join(", ")
             )
         }

@@ -108,6 +108,18 @@ impl OptionError {
     }
 }
 
+/// Checks `threads` (1 to [`MAX_THREADS`]; `None`: one per core), as
+/// every command that takes it (`identify`, `design`) does.
+pub fn check_threads(threads: Option<usize>) -> Result<(), OptionError> {
+    match threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
+        Some(t) => Err(OptionError::new(
+            "threads",
+            format!("{t}: must be 1 to {MAX_THREADS}"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// A message of the command line with its options spelt as the Python
 /// module's keyword arguments: a leading `--name VALUE` (a number) becomes
 /// `name=VALUE`, every other `--name` becomes `name`, dashes in names
@@ -157,10 +169,7 @@ impl SearchOptions {
             );
             return Err(OptionError::new("starts", detail));
         }
-        if let Some(t) = self.threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
-            let detail = format!("{t}: must be 1 to {MAX_THREADS}");
-            return Err(OptionError::new("threads", detail));
-        }
+        check_threads(self.threads)?;
         if let Some(w) = self.window.filter(|w| !(0.0..1.0).contains(w)) {
             let detail = format!("{w}: must lie in [0, 1) (0: off)");
             return Err(OptionError::new("window", detail));

@@ -5,5 +5,6 @@ pub mod data_file;
 pub mod digest;
 pub mod mat;
 pub mod model_file;
+pub mod report_dir;
 pub mod timeseries;
 pub mod uff;

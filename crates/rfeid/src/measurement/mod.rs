@@ -260,8 +260,10 @@ pub enum NoiseError {
         /// The fraction.
         fraction: f64,
     },
-    /// σ = fraction × RMS, or the noisy signal, would not be finite.
-    #[error("noise of {fraction:e} × RMS overflows on sensor {sensor} (RMS {rms:e})")]
+    /// σ = fraction × RMS, or the noisy signal, would not be finite or
+    /// would exceed [`MAX_DATA_MAGNITUDE`](crate::io::data_file::MAX_DATA_MAGNITUDE),
+    /// beyond which `identify` refuses data.
+    #[error("noise of {fraction:e} × RMS overflows on sensor {sensor} (RMS {rms:e}): the noisy values would exceed {:e}, the largest measured value rfeid accepts", crate::io::data_file::MAX_DATA_MAGNITUDE)]
     Overflow {
         /// Sensor index.
         sensor: usize,
@@ -301,8 +303,11 @@ pub fn check_noise(response: &Response, fraction: f64) -> Result<(), NoiseError>
             .sensor(c)
             .iter()
             .fold(0.0_f64, |a, v| a.max(v.abs()));
-        // A normal sample beyond 40 σ has probability below 1e-300.
-        if !sigma.is_finite() || !(peak + 40.0 * sigma).is_finite() {
+        // A normal sample beyond 40 σ has probability below 1e-300; the
+        // noisy record must stay data that `identify` reads.
+        let limit = crate::io::data_file::MAX_DATA_MAGNITUDE;
+        let noisy = peak + 40.0 * sigma;
+        if !sigma.is_finite() || !noisy.is_finite() || noisy > limit {
             return Err(NoiseError::Overflow {
                 sensor: c,
                 fraction,

@@ -48,15 +48,15 @@ pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
 }
 
 /// Applies `NAME=VALUE` settings to parameter values `params` (SI). A value
-/// outside the parameter's box is not refused; the warnings say which.
+/// outside the parameter's box is not refused; the warnings say which. A
+/// parameter given twice is refused.
 pub fn apply_sets(
     model: &Model,
     sets: &[String],
     params: &mut [f64],
 ) -> Result<Vec<String>, SetError> {
     let mut warnings = Vec::new();
-    for s in sets {
-        let (i, value) = parse_set(model, s)?;
+    for (i, value) in parse_once(model, sets)? {
         let p = &model.parameters[i];
         if let Some((lo, hi)) = p.bounds.filter(|&(lo, hi)| value < lo || value > hi) {
             warnings.push(format!(
@@ -69,38 +69,68 @@ pub fn apply_sets(
     Ok(warnings)
 }
 
-/// The model with parameters fixed for one run (`identify --set
-/// NAME=VALUE`): each takes its value and loses its box, so it is not
-/// identified. A parameter given twice, or one an experiment of the model
-/// file sets itself, is refused.
-pub fn fixed(model: Model, sets: &[String]) -> Result<Model, SetError> {
-    let mut given: Vec<(usize, &str)> = Vec::new();
-    sets.iter().try_fold(model, |model, s| {
-        let (i, value) = parse_set(&model, s)?;
-        if let Some((_, earlier)) = given.iter().find(|(j, _)| *j == i) {
+/// [`apply_sets`] for a run over every experiment of the model file (`design`
+/// of a campaign): a parameter an experiment sets itself is refused too,
+/// as its experiments' own values would override it.
+pub fn apply_sets_to_campaign(
+    model: &Model,
+    sets: &[String],
+    params: &mut [f64],
+) -> Result<Vec<String>, SetError> {
+    for (s, (i, _)) in sets.iter().zip(parse_once(model, sets)?) {
+        not_set_by_experiments(model, i, s)?;
+    }
+    apply_sets(model, sets, params)
+}
+
+/// Each setting parsed; a parameter given twice is refused.
+fn parse_once(model: &Model, sets: &[String]) -> Result<Vec<(usize, f64)>, SetError> {
+    let mut given: Vec<(usize, f64, &str)> = Vec::new();
+    for s in sets {
+        let (i, value) = parse_set(model, s)?;
+        if let Some((_, _, earlier)) = given.iter().find(|(j, _, _)| *j == i) {
             return Err(SetError::new(format!(
                 "--set '{s}': {} is already set by --set '{earlier}'; give each parameter once",
                 model.parameters[i].name
             )));
         }
-        given.push((i, s));
-        let setters: Vec<&str> = model
-            .experiments
-            .iter()
-            .filter(|x| x.set.iter().any(|(j, _)| *j == i))
-            .map(|x| x.name.as_str())
-            .collect();
-        if !setters.is_empty() {
-            // Each experiment's own `set` would win over it, silently.
-            return Err(SetError::new(format!(
-                "--set '{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
-                model.parameters[i].name,
-                if setters.len() == 1 { "" } else { "s" },
-                setters.join(", ")
-            )));
-        }
-        model.with_fixed(i, value).map_err(set_failure)
-    })
+        given.push((i, value, s));
+    }
+    Ok(given.into_iter().map(|(i, v, _)| (i, v)).collect())
+}
+
+/// Refuses setting parameter `i` (by `s`) where an experiment of the model
+/// file sets it itself: each experiment's own `set` would win, silently.
+fn not_set_by_experiments(model: &Model, i: usize, s: &str) -> Result<(), SetError> {
+    let setters: Vec<&str> = model
+        .experiments
+        .iter()
+        .filter(|x| x.set.iter().any(|(j, _)| *j == i))
+        .map(|x| x.name.as_str())
+        .collect();
+    if setters.is_empty() {
+        return Ok(());
+    }
+    Err(SetError::new(format!(
+        "--set '{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
+        model.parameters[i].name,
+        if setters.len() == 1 { "" } else { "s" },
+        setters.join(", ")
+    )))
+}
+
+/// The model with parameters fixed for one run (`identify --set
+/// NAME=VALUE`): each takes its value and loses its box, so it is not
+/// identified. A parameter given twice, or one an experiment of the model
+/// file sets itself, is refused.
+pub fn fixed(model: Model, sets: &[String]) -> Result<Model, SetError> {
+    let parsed = parse_once(&model, sets)?;
+    sets.iter()
+        .zip(parsed)
+        .try_fold(model, |model, (s, (i, value))| {
+            not_set_by_experiments(&model, i, s)?;
+            model.with_fixed(i, value).map_err(set_failure)
+        })
 }
 
 /// The model with `tolerance` and `substeps` applied to its sampling.
