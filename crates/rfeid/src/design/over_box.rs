@@ -65,6 +65,29 @@ fn singular(base: &DMatrix<f64>, cand: &[DMatrix<f64>], chosen: &[usize]) -> boo
     cramer_rao_fisher(&f, 1 << 40, &ones, &ones, &settings).is_err()
 }
 
+/// At one box point (its placed Fisher part `b` and candidates' `c`, one
+/// point's slices):
+/// whether the robust choice `robust` is also that point's own best choice
+/// of `k`, and its D-efficiency there; `(true, NaN)` where every choice is
+/// singular (none is better than another).
+fn point_verdict(
+    b: &[DMatrix<f64>],
+    c: &[Vec<DMatrix<f64>>],
+    robust: &[usize],
+    k: usize,
+    greedy: bool,
+) -> (bool, f64) {
+    let best = choose(b, c, k, greedy);
+    let mine = criterion(b, c, robust);
+    if best.log_det == f64::NEG_INFINITY || singular(&b[0], &c[0], &best.chosen) {
+        // The best set is singular too (to rounding).
+        return (true, f64::NAN);
+    }
+    let same = mine >= best.log_det - 1e-9 * best.log_det.abs().max(1.0);
+    let r = b[0].ncols() as f64;
+    (same, ((mine - best.log_det) / r).exp().min(1.0))
+}
+
 /// The D-optimal K for the average over `n` LP_τ points of the box;
 /// `values` holds the pieces at the parameters' values.
 pub fn choose_over_box(
@@ -121,20 +144,16 @@ pub fn choose_over_box(
         settings.force_greedy,
     )
     .chosen;
-    let r = r as f64;
     let own: Vec<(bool, f64)> = (0..parts.len())
         .into_par_iter()
         .map(|p| {
-            let (b, c) = (&base[p..=p], &cand[p..=p]);
-            let best = choose(b, c, k, settings.force_greedy);
-            let mine = criterion(b, c, &robust.chosen);
-            if best.log_det == f64::NEG_INFINITY || singular(&base[p], &cand[p], &best.chosen) {
-                // Every set is singular here (the best one is, to
-                // rounding): none is better than another.
-                return (true, f64::NAN);
-            }
-            let same = mine >= best.log_det - 1e-9 * best.log_det.abs().max(1.0);
-            (same, ((mine - best.log_det) / r).exp().min(1.0))
+            point_verdict(
+                &base[p..=p],
+                &cand[p..=p],
+                &robust.chosen,
+                k,
+                settings.force_greedy,
+            )
         })
         .collect();
     Ok(BoxChoice {
