@@ -4,15 +4,8 @@
 use crate::support;
 
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use support::*;
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .join("model.toml")
-}
 
 /// Runs rfeid with `args`, which must succeed.
 fn ok(args: &[&std::ffi::OsStr]) -> std::process::Output {
@@ -37,7 +30,7 @@ fn random_force_h1_over_the_demo_estimate_and_band() {
         dir.join("frf.json"),
         dir.join("frf.svg"),
     );
-    let model = example("knee-column-frf");
+    let model = example_model("knee-column-frf");
     ok(os![
         "simulate",
         model.as_os_str(),
@@ -122,7 +115,7 @@ fn random_force_h1_over_the_demo_estimate_and_band() {
 fn a_force_column_gives_the_h1_of_the_models_table_signal() {
     let dir = scratch_dir("frf-force");
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bouc-wen/train.mat");
-    let text = std::fs::read_to_string(example("bouc-wen")).unwrap();
+    let text = std::fs::read_to_string(example_model("bouc-wen")).unwrap();
     let table =
         r#"file = "../../data/bouc-wen/train.mat", variable = "u", interpolation = "band-limited""#;
     assert!(text.contains(table));
@@ -161,7 +154,7 @@ fn a_force_column_gives_the_h1_of_the_models_table_signal() {
 fn bad_input_exits_2_without_output() {
     let dir = scratch_dir("frf-bad");
     let out = dir.join("frf.csv");
-    let model = example("knee-column");
+    let model = example_model("knee-column");
     for (extra, needle) in [
         (vec!["--at", "tool=knee"], "--at tool=knee"),
         (

@@ -32,6 +32,14 @@ pub fn identify(
     cmd
 }
 
+/// The model file of `examples/NAME`.
+pub fn example_model(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .join("model.toml")
+}
+
 /// A new, empty scratch folder for one test.
 pub fn scratch_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rfeid-t-{}-{name}", std::process::id()));
