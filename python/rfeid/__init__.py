@@ -31,8 +31,6 @@ identification or simulation that cannot be done raises
 :class:`IdentificationError` (a ``RuntimeError``). Notes of the library
 that are warnings (a ``set`` value outside its box, say) are issued as
 ``UserWarning``. Ctrl-C stops a long call with ``KeyboardInterrupt``.
-Campaigns (``[[experiment]]`` entries), shards and ``validate`` are for
-the command line.
 """
 from __future__ import annotations
 
@@ -51,6 +49,7 @@ from ._rfeid import DataError, IdentificationError, ModelError, __version__
 __all__ = [
     "Model",
     "Parameter",
+    "Experiment",
     "Simulation",
     "Identification",
     "Frf",
@@ -153,6 +152,23 @@ class Parameter:
     per_experiment: bool
 
 
+@dataclass(frozen=True)
+class Experiment:
+    """One test of a campaign (an ``[[experiment]]`` entry of the model
+    file, SPEC §5).
+
+    Attributes:
+        name: its name (``name[experiment]`` in results).
+        role: ``"fit"`` (fitted by :func:`identify`) or ``"validation"``
+            (simulated at the estimate and compared).
+        data: its data file, resolved against the model file's directory.
+    """
+
+    name: str
+    role: str
+    data: str
+
+
 class Model:
     """A model file (TOML, SPEC §1), loaded and validated by the library.
 
@@ -229,6 +245,13 @@ class Model:
         """What reading the file noted (a list of ``str``; a table's time
         axis taken on the model's grid, say); empty when nothing was."""
         return list(self._native.notes)
+
+    @property
+    def experiments(self) -> List[Experiment]:
+        """The experiments of a campaign (``[[experiment]]`` entries, SPEC
+        §5) in the file's order, each an :class:`Experiment`; empty for a
+        model fitted to one data set."""
+        return [Experiment(n, r, os.fspath(d)) for n, r, d in self._native.experiments]
 
     def simulate(
         self,
@@ -377,10 +400,11 @@ def _column(label: str, name: str, values: Any) -> bytes:
     return _as_bytes(array)
 
 
-def _table(data: Any) -> Tuple[str, bytes, List[str], List[bytes]]:
+def _table(data: Any, label: Optional[str] = None) -> Tuple[str, bytes, List[str], List[bytes]]:
     """A DataFrame (a ``time`` column or index) or a mapping with ``time``
-    as (label, time, names, columns) for the library."""
-    label = type(data).__name__
+    as (label, time, names, columns) for the library; ``label`` names it in
+    messages (default: its type's name)."""
+    label = label or type(data).__name__
     if hasattr(data, "columns") and hasattr(data, "index"):
         names_all = [str(c) for c in data.columns]
         twice = sorted({n for n in names_all if names_all.count(n) > 1})
@@ -445,9 +469,37 @@ def _profile_names(profiles: Union[None, bool, Sequence[str]]) -> Optional[List[
     return [str(p) for p in profiles]
 
 
+def _source(data: Any, label: Optional[str] = None) -> Any:
+    """Measured data for the library: a path as ``str``, else a table."""
+    if isinstance(data, (str, os.PathLike)):
+        return os.fspath(data)
+    return _table(data, label)
+
+
+def _data_args(model: Model, data: Any) -> Tuple[Any, List[Tuple[str, Any]]]:
+    """The native ``data`` and ``experiments`` of :func:`identify`: one data
+    set for a model without experiments, else data by experiment name."""
+    if not model._native.experiments:
+        if data is None:
+            raise TypeError(
+                "data: needed (a path, a DataFrame or a mapping with 'time'), as the model "
+                "lists no [[experiment]] with data files of its own"
+            )
+        return _source(data), []
+    if data is None:
+        return None, []
+    if not isinstance(data, Mapping) or "time" in data:
+        raise TypeError(
+            "data: the model is a campaign ([[experiment]] entries, which name their own data "
+            "files); give None, or a dict of experiment name -> data (a path or a DataFrame) "
+            f"for the experiments whose data are not their files, not {type(data).__name__}"
+        )
+    return None, [(str(k), _source(v, f"data['{k}']")) for k, v in data.items()]
+
+
 def identify(
     model: Model,
-    data: Any,
+    data: Any = None,
     *,
     set: SetValues = None,
     plan: int = 100,
@@ -478,8 +530,18 @@ def identify(
     DataFrame with a ``time`` column (or index, s) and a column per sensor
     (SI), or a mapping of names to arrays with ``"time"``, sampled at the
     model's sample rate (a record starting after t = 0 is taken as
-    starting there, a longer one is cut, each with a note). Options have
-    the command line's names and defaults:
+    starting there, a longer one is cut, each with a note).
+
+    A model with ``[[experiment]]`` entries is a campaign (SPEC §5), fitted
+    as ``rfeid identify`` fits it: every fitted experiment together, the
+    validation ones simulated at the estimate (see
+    :attr:`Identification.experiments`). Its data are the files the
+    experiments name; ``data`` may give some or all of them instead, as a
+    dict of experiment name -> data (a path, a DataFrame or a mapping as
+    above). A campaign's local searches fit whole records (``window`` is
+    refused), and an experiment's own ``from`` replaces ``from_``.
+
+    Options have the command line's names and defaults:
 
     - ``plan``: points of the LP_τ plan over the box (100; 1 to 1 000 000);
     - ``starts``: local searches from the best plan points (1; at most
@@ -512,8 +574,7 @@ def identify(
 
     Raises ``ValueError`` for an option out of range (named as the
     keyword: ``plan=0: must be 1 to 1000000``), :class:`ModelError` for a
-    bad ``set``, ``tolerance`` or ``substeps``, or a model with
-    ``[[experiment]]`` entries (campaigns are for the command line),
+    bad ``set``, ``tolerance`` or ``substeps``,
     :class:`DataError` for data that do not fit the model (a missing
     column, another sample rate, a value that is not finite: named), and
     :class:`IdentificationError` for a run that cannot be done;
@@ -524,7 +585,7 @@ def identify(
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
-    source = os.fspath(data) if isinstance(data, (str, os.PathLike)) else _table(data)
+    source, experiments = _data_args(model, data)
     bar = _Bar() if progress else None
     try:
         native, notes = _rfeid.identify(
@@ -546,6 +607,7 @@ def identify(
             progress=bar,
             profiles=_profile_names(profiles),
             profile_points=_int("profile_points", profile_points),
+            experiments=experiments,
         )
     finally:
         if bar is not None:
@@ -616,6 +678,14 @@ class Identification:
         if v is None:
             return Verdict("suspect", ("no verdict was reached",))
         return Verdict(v[0], tuple(v[1]))
+
+    @property
+    def experiments(self) -> List[Dict[str, Any]]:
+        """A campaign's experiments as RESULT.json lists them (a list of
+        dicts: ``name``, ``role``, ``data``, ``samples``, ``sample_rate``,
+        ``from``, ``weight``, ``sensors``, ``fits`` in %), fitted and
+        validation ones in the model's order; empty for one data set."""
+        return list(self.document.get("experiments", []))
 
     @property
     def profiles(self) -> Dict[str, Dict[str, Any]]:

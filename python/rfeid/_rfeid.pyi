@@ -59,8 +59,9 @@ class Model:
     def n_samples(self) -> int:
         """The number of samples in the record: round(duration × sample_rate)."""
     @property
-    def experiments(self) -> List[str]:
-        """The names of the ``[[experiment]]`` entries (a campaign); empty if none."""
+    def experiments(self) -> List[Tuple[str, str, pathlib.Path]]:
+        """The ``[[experiment]]`` entries (a campaign) as (name, role
+        ``"fit"`` or ``"validation"``, data file); empty if none."""
     def simulate(
         self,
         set: List[str],
@@ -104,7 +105,7 @@ class Identification:
 
 def identify(
     model: Model,
-    data: Union[str, "os.PathLike[str]", Tuple[str, bytes, List[str], Sequence[bytes]]],
+    data: Optional[Union[str, "os.PathLike[str]", Tuple[str, bytes, List[str], Sequence[bytes]]]],
     *,
     set: List[str],
     plan: int,
@@ -122,10 +123,13 @@ def identify(
     progress: Optional[Callable[[int, int, int, int, int, float], None]],
     profiles: Optional[List[str]] = None,
     profile_points: int = 20,
+    experiments: Sequence[Tuple[str, Union[str, "os.PathLike[str]", Tuple[str, bytes, List[str], Sequence[bytes]]]]] = (),
 ) -> Tuple[Identification, List[str]]:
     """Identifies ``model``'s parameters from ``data`` (a data file, or a
     table: label, time in s, column names, columns in SI, the arrays as
-    little-endian float64 bytes) as ``rfeid identify`` does: ``from_`` in
+    little-endian float64 bytes) as ``rfeid identify`` does; a campaign
+    (a model with ``[[experiment]]`` entries) takes ``data=None`` and
+    ``experiments``, data by experiment name in place of their files: ``from_`` in
     s, ``window`` a fraction of the record, ``tolerance`` a relative error,
     ``substeps`` steps per sample, ``jacobian_memory`` MiB; ``progress``
     is called as progress(plan points done, plan points, local search

@@ -5,11 +5,8 @@ use super::errors::data_error;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 use rfeid::io::timeseries::TimeSeries;
-use rfeid::measurement::measured::{
-    measured_from_file, measured_from_table, Measured, MeasuredError,
-};
-use rfeid::model::Model;
-use std::path::{Path, PathBuf};
+pub use rfeid::measurement::measured::Source;
+use std::path::PathBuf;
 
 /// `values` as little-endian bytes.
 pub fn f64_bytes(values: &[f64]) -> Vec<u8> {
@@ -74,42 +71,6 @@ impl DataArg<'_> {
                 };
                 Ok(Source::Table(label.clone(), table))
             }
-        }
-    }
-}
-
-/// Measured data a worker thread can read: a data file, or a table with
-/// the label that names it in messages.
-#[derive(Debug, Clone)]
-pub enum Source {
-    /// A data file.
-    File(PathBuf),
-    /// A table in memory.
-    Table(String, TimeSeries),
-}
-
-impl Source {
-    /// The file, if the data are one.
-    pub fn file(&self) -> Option<&Path> {
-        match self {
-            Source::File(p) => Some(p),
-            Source::Table(..) => None,
-        }
-    }
-
-    /// What names the data: the file, or the table's label.
-    pub fn label(&self) -> String {
-        match self {
-            Source::File(p) => p.display().to_string(),
-            Source::Table(label, _) => label.clone(),
-        }
-    }
-
-    /// The signals on `model`'s sampling, with the reading's notes.
-    pub fn measured(&self, model: &Model) -> Result<Measured, MeasuredError> {
-        match self {
-            Source::File(path) => measured_from_file(path, model),
-            Source::Table(label, table) => measured_from_table(Path::new(label), table, model),
         }
     }
 }

@@ -5,6 +5,7 @@
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::PyErr;
+use rfeid::identification::campaign::CampaignError;
 use rfeid::identification::options::{keyword_spelling, OptionError, PrepareError};
 use rfeid::identification::pipeline::IdentifyError;
 use rfeid::simulation::SimulationError;
@@ -87,5 +88,18 @@ pub fn identify_error(e: IdentifyError) -> PyErr {
         | IdentifyError::UnknownProfileParameter { .. } => PyValueError::new_err(e.to_string()),
         IdentifyError::TooFewObservations { .. } => data_error(e),
         _ => failed(e),
+    }
+}
+
+/// A campaign that could not be run: an option is named as a keyword, an
+/// experiment's data or its `from` are bad data or a bad model, a failed
+/// simulation as [`simulation_error`] says.
+pub fn campaign_error(e: CampaignError) -> PyErr {
+    match e {
+        CampaignError::Option(o) => option_error(&o),
+        CampaignError::Experiment { field: "from", .. } => model_error(e),
+        CampaignError::Experiment { .. } | CampaignError::UnknownExperiment { .. } => data_error(e),
+        _ if e.is_bad_input() => ModelError::new_err(e.to_string()),
+        _ => IdentificationError::new_err(e.to_string()),
     }
 }

@@ -105,6 +105,26 @@ impl PyModel {
             .collect()
     }
 
+    /// The experiments of a campaign (SPEC §5), in the model's order, as
+    /// (name, role, data file): role `"fit"` or `"validation"`, the file
+    /// resolved against the model file's directory. Empty for a model
+    /// without `[[experiment]]` entries.
+    #[getter]
+    fn experiments(&self) -> Vec<(String, &'static str, PathBuf)> {
+        use rfeid::model::Role;
+        self.model
+            .experiments
+            .iter()
+            .map(|x| {
+                let role = match x.role {
+                    Role::Fit => "fit",
+                    Role::Validation => "validation",
+                };
+                (x.name.clone(), role, x.data.clone())
+            })
+            .collect()
+    }
+
     /// The sensors' names, in the model's order.
     #[getter]
     fn sensor_names(&self) -> Vec<String> {
@@ -133,17 +153,6 @@ impl PyModel {
     #[getter]
     fn n_samples(&self) -> usize {
         self.model.sampling.n_samples()
-    }
-
-    /// The names of the `[[experiment]]` entries (a campaign); an empty
-    /// list if none.
-    #[getter]
-    fn experiments(&self) -> Vec<String> {
-        self.model
-            .experiments
-            .iter()
-            .map(|e| e.name.clone())
-            .collect()
     }
 
     /// Simulates at the nominal values with `set` (`NAME=VALUE`) applied,

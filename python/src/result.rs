@@ -2,11 +2,12 @@
 use super::errors::{failed, model_error};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
+use rfeid::identification::campaign::CampaignData;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::Outcome;
 use rfeid::io::report_dir::{write_report as write_report_dir, ReportDirError};
 use rfeid::model::Model;
-use rfeid::report::at_estimate::{render, RenderError};
+use rfeid::report::at_estimate::{render, render_campaign, RenderError};
 use rfeid::simulation::Response;
 use std::path::{Path, PathBuf};
 
@@ -17,10 +18,38 @@ pub struct PyIdentification {
     pub result: IdentificationResult,
     /// The model identified (with `set` fixed).
     pub model: Model,
-    /// The measured signals.
-    pub measured: Response,
+    /// The data fitted: one record, or a campaign's experiments.
+    pub fitted: Fitted,
     /// The report's title.
     pub title: String,
+}
+
+/// The data an identification fitted.
+pub enum Fitted {
+    /// One record's measured signals.
+    Single(Response),
+    /// A campaign's experiments (SPEC §5).
+    Campaign(CampaignData),
+}
+
+impl PyIdentification {
+    /// The model, experiment name and measured signals an FRF compares
+    /// with: the record, or a campaign's first fitted experiment.
+    fn frf_data(&self) -> (&Model, &str, &Response) {
+        match &self.fitted {
+            Fitted::Single(measured) => (&self.model, "", measured),
+            Fitted::Campaign(data) => {
+                let e = self
+                    .model
+                    .fitted_experiments()
+                    .first()
+                    .copied()
+                    .unwrap_or(0);
+                let name = self.model.experiments[e].name.as_str();
+                (&data.models[e], name, &data.measured[e])
+            }
+        }
+    }
 }
 
 #[pymethods]
@@ -48,15 +77,17 @@ impl PyIdentification {
     /// returns report.html's path.
     fn report(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
         let files = py
-            .detach(|| {
-                render(
+            .detach(|| match &self.fitted {
+                Fitted::Single(measured) => {
+                    render(&self.model, &self.result, "", measured, None, &self.title)
+                }
+                Fitted::Campaign(data) => render_campaign(
                     &self.model,
+                    &data.models,
                     &self.result,
-                    "",
-                    &self.measured,
-                    None,
+                    &data.measured,
                     &self.title,
-                )
+                ),
             })
             .map_err(|e| match e {
                 RenderError::Simulation(_) => failed(e),
@@ -68,6 +99,7 @@ impl PyIdentification {
             .flatten()
             .map(PathBuf::from)
             .chain(self.model.files.iter().cloned())
+            .chain(self.model.experiments.iter().map(|x| x.data.clone()))
             .collect();
         write_report(&dir, &files, &inputs)
     }
@@ -98,7 +130,8 @@ impl PyIdentification {
             "linear" => rfeid::frf::Spacing::Linear,
             s => return Err(bad(format!("spacing {s:?}: \"log\" or \"linear\""))),
         };
-        let nyquist = self.model.sampling.sample_rate / 2.0;
+        let (model, experiment, measured_data) = self.frf_data();
+        let nyquist = model.sampling.sample_rate / 2.0;
         let top = fmax.unwrap_or(nyquist);
         if !(top > 0.0 && top.is_finite()) {
             return Err(bad(format!(
@@ -113,23 +146,22 @@ impl PyIdentification {
         if let Some(n) = points.filter(|n| !(2..=100_000).contains(n)) {
             return Err(bad(format!("points {n}: must be from 2 to 100 000")));
         }
-        let at = rfeid::frf::at_estimate(&self.result, &self.model, "").map_err(model_error)?;
-        let frequencies =
-            rfeid::frf::grid(&self.model, &at.params, fmin, Some(top), points, spacing);
+        let at = rfeid::frf::at_estimate(&self.result, model, experiment).map_err(model_error)?;
+        let frequencies = rfeid::frf::grid(model, &at.params, fmin, Some(top), points, spacing);
         let request = rfeid::frf::FrfRequest {
-            model: &self.model,
+            model,
             params: at.params,
             wrt: at.wrt,
             covariance: at.covariance.ok(),
-            excitations: (0..self.model.excitations.len()).collect(),
-            outputs: rfeid::frf::Output::sensors(&self.model),
+            excitations: (0..model.excitations.len()).collect(),
+            outputs: rfeid::frf::Output::sensors(model),
             frequencies,
         };
         let data = rfeid::frf::DataSet {
             label: "measured",
-            model: &self.model,
-            measured: &self.measured,
-            first: self.model.sampling.first_sample(self.result.from),
+            model,
+            measured: measured_data,
+            first: model.sampling.first_sample(self.result.from),
             segment,
             force: None,
         };

@@ -1,12 +1,15 @@
 //! `identify`: the run of `rfeid identify` on one data set, stage by stage
 //! through the library, with the options of the command line.
 use super::data::{DataArg, Source};
-use super::errors::{data_error, identify_error, model_error, option_error, prepare_error};
+use super::errors::{
+    campaign_error, data_error, identify_error, model_error, option_error, prepare_error,
+};
 use super::model::PyModel;
-use super::result::PyIdentification;
+use super::result::{Fitted, PyIdentification};
 use super::watch::{watched, Counters};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use rfeid::identification::campaign::{prepare_campaign, read_campaign, record_experiments};
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::{prepare, SearchOptions};
 use rfeid::identification::pipeline::{
@@ -16,7 +19,6 @@ use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::result::{IdentificationResult, InputDigests};
 use rfeid::io::digest::file_digest;
 use rfeid::model::{set_values, Model};
-use rfeid::simulation::Response;
 
 /// A keyword's value among its choices.
 fn choice<T: Copy>(name: &str, value: &str, choices: &[(&str, T)]) -> PyResult<T> {
@@ -88,38 +90,56 @@ fn search_options(
 
 /// Records in `result` what it was computed from, as `rfeid identify`
 /// does: the set values, the files, and their digests (the model's taken
-/// when it was loaded, the data file's when it was read); returns the
+/// when it was loaded, the data files' when they were read); returns the
 /// report's title.
 fn record_source(
     result: &mut IdentificationResult,
     model: &PyModel,
-    source: &Source,
-    data_digest: Option<String>,
+    label: Option<String>,
+    data_digests: Option<Vec<String>>,
     set: Vec<String>,
 ) -> String {
-    let model_name = model
-        .path
-        .as_ref()
-        .map_or("model".into(), |p| p.display().to_string());
+    let model_name = model_label(model);
     result.source.set = set;
     result.source.model = model.path.as_ref().map(|p| p.display().to_string());
-    result.source.data = source.file().map(|p| p.display().to_string());
-    if let (Some((m, tables)), Some(d)) = (&model.digests, data_digest) {
+    result.source.data = label.clone();
+    if let (Some((m, tables)), Some(data)) = (&model.digests, data_digests) {
         result.source.digests = Some(InputDigests {
             model: m.clone(),
             tables: tables.clone(),
-            data: vec![d],
+            data,
         });
     }
-    format!("{model_name} with {}", source.label())
+    match label {
+        Some(label) => format!("{model_name} with {label}"),
+        None => format!("campaign {model_name}"),
+    }
+}
+
+/// The model as messages name it: its file, or `the model`.
+fn model_label(model: &PyModel) -> String {
+    model
+        .path
+        .as_ref()
+        .map_or("the model".into(), |p| p.display().to_string())
 }
 
 /// What the worker thread found.
 struct Searched {
     result: IdentificationResult,
-    measured: Response,
+    fitted: Fitted,
     notes: Vec<String>,
-    data_digest: Option<String>,
+    /// The data's label (one record's file or table; `None`: a campaign).
+    label: Option<String>,
+    /// The data files' digests, when every datum is a file.
+    data_digests: Option<Vec<String>>,
+}
+
+/// The data of a run: one record, or a campaign's experiments (those
+/// given by name, the others from the files the model names).
+enum Input {
+    Single(Source),
+    Campaign(Vec<(String, Source)>),
 }
 
 /// The run on the worker thread: the data read (and their file's digest
@@ -147,15 +167,92 @@ fn search(
         run_pipeline(prepared.problem, &prepared.settings, progress).map_err(identify_error)?;
     Ok(Searched {
         result,
-        measured: measured.response,
+        fitted: Fitted::Single(measured.response),
         notes,
-        data_digest,
+        label: Some(source.label()),
+        data_digests: data_digest.map(|d| vec![d]),
     })
+}
+
+/// A campaign's run on the worker thread, as `rfeid identify` runs a model
+/// with `[[experiment]]` entries: every experiment's data read
+/// ([`read_campaign`]), the fitted ones searched together, the validation
+/// ones simulated at the estimate ([`record_experiments`]).
+fn search_campaign(
+    model: &Model,
+    label: &str,
+    given: Vec<(String, Source)>,
+    options: &SearchOptions,
+    cancel: &Cancel,
+    progress: &Counters,
+) -> PyResult<Searched> {
+    let data = read_campaign(model, label, given).map_err(campaign_error)?;
+    let data_digests = data
+        .files()
+        .map(|files| {
+            files
+                .iter()
+                .map(|f| file_digest(f))
+                .collect::<Result<Vec<_>, _>>()
+        })
+        .transpose()
+        .map_err(data_error)?;
+    let prepared =
+        prepare_campaign(model, label, &data, options, cancel).map_err(campaign_error)?;
+    let mut notes = data.notes.clone();
+    notes.extend(prepared.warnings.iter().map(|w| format!("warning: {w}")));
+    let mut result =
+        run_pipeline(prepared.problem, &prepared.settings, progress).map_err(identify_error)?;
+    record_experiments(&mut result, model, &data).map_err(campaign_error)?;
+    Ok(Searched {
+        result,
+        fitted: Fitted::Campaign(data),
+        notes,
+        label: None,
+        data_digests,
+    })
+}
+
+/// The data of a run from the keywords: `data` for a model without
+/// experiments, `experiments` (name → data, each optional) for a campaign.
+fn input(
+    model: &Model,
+    label: &str,
+    data: Option<DataArg<'_>>,
+    experiments: Vec<(String, DataArg<'_>)>,
+) -> PyResult<Input> {
+    if model.experiments.is_empty() {
+        if !experiments.is_empty() {
+            return Err(data_error(format!(
+                "data per experiment: {label} lists no [[experiment]]; give one data set as `data`"
+            )));
+        }
+        let data = data.ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "data: needed, as {label} lists no [[experiment]] with data files of its own"
+            ))
+        })?;
+        return Ok(Input::Single(data.source()?));
+    }
+    if data.is_some() {
+        return Err(data_error(format!(
+            "data: {label} lists [[experiment]] entries, which name their own data files; give \
+             data per experiment (a dict of experiment name to data), or none"
+        )));
+    }
+    let given = experiments
+        .iter()
+        .map(|(name, d)| Ok((name.clone(), d.source()?)))
+        .collect::<PyResult<_>>()?;
+    Ok(Input::Campaign(given))
 }
 
 /// Identifies `model`'s parameters from `data`: the library's options,
 /// `set` fixed, the data read and matched, the run prepared and searched,
-/// the result's source recorded, as `rfeid identify` does. Units: `from_`
+/// the result's source recorded, as `rfeid identify` does. A model with
+/// `[[experiment]]` entries is a campaign: `data` is then `None` and
+/// `experiments` gives data by experiment name in place of the files the
+/// model names. Units: `from_`
 /// in s, `window` a fraction of the record, `tolerance` a relative RMS
 /// error, `substeps` steps per sample, `jacobian_memory` MiB; `profiles`
 /// the parameters to profile after the bounds (empty: every one; `None`:
@@ -166,12 +263,12 @@ fn search(
 #[pyfunction]
 #[pyo3(signature = (model, data, *, set, plan, starts, method, weights, noise_model, window,
     from_, threads, start, tolerance, substeps, jacobian_memory, progress, profiles=None,
-    profile_points=DEFAULT_POINTS))]
+    profile_points=DEFAULT_POINTS, experiments=Vec::new()))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
     model: &PyModel,
-    data: DataArg<'_>,
+    data: Option<DataArg<'_>>,
     set: Vec<String>,
     plan: usize,
     starts: usize,
@@ -188,6 +285,7 @@ pub fn identify(
     progress: Option<Bound<'_, PyAny>>,
     profiles: Option<Vec<String>>,
     profile_points: usize,
+    experiments: Vec<(String, DataArg<'_>)>,
 ) -> PyResult<(PyIdentification, Vec<String>)> {
     let options = search_options(
         plan,
@@ -208,13 +306,8 @@ pub fn identify(
     options.check().map_err(|e| option_error(&e))?;
     let fixed = set_values::fixed(model.model.clone(), &set).map_err(model_error)?;
     let edited = set_values::stepped(fixed, tolerance, substeps).map_err(model_error)?;
-    if !edited.experiments.is_empty() {
-        return Err(model_error(format!(
-            "{}: a campaign ([[experiment]] entries) is identified by `rfeid identify` on the command line; the Python module identifies one data set",
-            model.path.as_ref().map_or("the model".into(), |p| p.display().to_string())
-        )));
-    }
-    let source = data.source()?;
+    let label = model_label(model);
+    let input = input(&edited, &label, data, experiments)?;
     let cancel = Cancel::new();
     let counters = Counters::default();
     let pool = rayon::ThreadPoolBuilder::new()
@@ -222,19 +315,25 @@ pub fn identify(
         .build()
         .map_err(|e| super::errors::failed(format!("could not start the worker threads: {e}")))?;
     let searched = watched(py, &cancel, &counters, progress.as_ref(), || {
-        pool.install(|| search(&edited, &source, &options, &cancel, &counters))
+        pool.install(|| match input {
+            Input::Single(source) => search(&edited, &source, &options, &cancel, &counters),
+            Input::Campaign(given) => {
+                search_campaign(&edited, &label, given, &options, &cancel, &counters)
+            }
+        })
     })??;
     let Searched {
         mut result,
-        measured,
+        fitted,
         notes,
-        data_digest,
+        label,
+        data_digests,
     } = searched;
-    let title = record_source(&mut result, model, &source, data_digest, set);
+    let title = record_source(&mut result, model, label, data_digests, set);
     let identification = PyIdentification {
         result,
         model: edited,
-        measured,
+        fitted,
         title,
     };
     Ok((identification, notes))

@@ -133,10 +133,56 @@ def test_bad_options_are_value_errors(tmp_path, rfeid_cli, knee_column):
         rfeid.identify(m, 42)
 
 
-def test_a_campaign_is_refused_with_a_model_error():
-    m = rfeid.Model.load(EXAMPLES / "knee-column-campaign" / "model.toml")
-    with pytest.raises(rfeid.ModelError, match="campaign"):
-        rfeid.identify(m, {"time": [0.0, 1.0]})
+def campaign_copy(tmp_path, rfeid_cli, validation=False):
+    """The knee-column campaign copied into tmp_path with its three tests
+    simulated (2 % noise, seeded); with `validation` the third is left out
+    of the fit."""
+    import shutil
+    model = tmp_path / "model.toml"
+    text = (EXAMPLES / "knee-column-campaign" / "model.toml").read_text()
+    if validation:
+        text = text.replace('name = "high"\n', 'name = "high"\nuse = "validation"\n')
+    model.write_text(text)
+    for n, e in enumerate(["low", "mid", "high"]):
+        rfeid_cli("simulate", model, "--experiment", e, "-o", tmp_path / f"{e}.csv",
+                  "--noise", "0.02", "--seed", 10 + n, "-q")
+    return model
+
+
+def test_a_campaign_equals_the_command_line(tmp_path, rfeid_cli):
+    model = campaign_copy(tmp_path, rfeid_cli, validation=True)
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", model, "-o", out, "-q", "--plan", "16")
+    cli = json.loads(out.read_text())
+    m = rfeid.Model.load(model)
+    assert [(e.name, e.role) for e in m.experiments] == [("low", "fit"), ("mid", "fit"), ("high", "validation")]
+    res = rfeid.identify(m, plan=16)
+    doc = json.loads(res.to_json())
+    for d in (doc, cli):
+        d.pop("timings")
+    assert doc == cli
+    assert [e["role"] for e in res.experiments] == ["fit", "fit", "validation"]
+    # One experiment's data as a DataFrame in place of its file: the same numbers.
+    frames = rfeid.identify(m, {"mid": read_csv_exact(tmp_path / "mid.csv")}, plan=16)
+    assert frames.estimates == res.estimates
+    assert frames.experiments[1]["data"] == "data['mid']"
+    path = frames.report(tmp_path / "report")
+    assert path.endswith("report.html")
+
+
+def test_campaign_mistakes_are_named(tmp_path, rfeid_cli):
+    model = campaign_copy(tmp_path, rfeid_cli)
+    m = rfeid.Model.load(model)
+    with pytest.raises(rfeid.DataError, match='experiment "nope"'):
+        rfeid.identify(m, {"nope": str(tmp_path / "low.csv")}, plan=4)
+    with pytest.raises(TypeError, match="campaign"):
+        rfeid.identify(m, read_csv_exact(tmp_path / "low.csv"), plan=4)
+    with pytest.raises(ValueError, match="window=0.2"):
+        rfeid.identify(m, plan=4, window=0.2)
+    with pytest.raises(rfeid.DataError, match="data\\['low'\\]"):
+        rfeid.identify(m, {"low": {"time": [0.0, 0.001]}}, plan=4)
+    with pytest.raises(TypeError, match="needed"):
+        rfeid.identify(rfeid.Model.load(EXAMPLES / "knee-column" / "model.toml"))
 
 
 def test_report_repr_and_progress(tmp_path, rfeid_cli, knee_column, capsys):

@@ -1,33 +1,39 @@
-//! Inputs of a campaign (SPEC §5): each experiment's model and measured
-//! data, with every problem naming the model file, the experiment and its
-//! field.
+//! Inputs of a campaign (SPEC §5) as the commands read them: the library's
+//! [`read_campaign`] and [`read_experiment`], their notes shown and their
+//! errors as failures, every problem naming the model file, the
+//! experiment and its field.
 use crate::diagnostics::Failure;
 use crate::ui::Ui;
-use rfeid::io::data_file::read_measurement;
-use rfeid::measurement::match_data;
-use rfeid::model::{Experiment, Model};
+use rfeid::identification::campaign::{
+    read_campaign, read_experiment, CampaignData, CampaignError,
+};
+use rfeid::measurement::measured::Source;
+use rfeid::model::Model;
 use rfeid::simulation::Response;
 use std::path::Path;
 
-/// Every experiment's model (its settings applied) and measured data.
+/// Every experiment's model (its settings applied) and measured data, each
+/// from the data file the experiment names.
 pub fn campaign_data(
     model: &Model,
     path: &Path,
     ui: &Ui,
 ) -> Result<(Vec<Model>, Vec<Response>), Failure> {
-    let models: Vec<Model> = (0..model.experiments.len())
-        .map(|e| model.for_experiment(e))
-        .collect();
-    let measured = models
-        .iter()
-        .enumerate()
-        .map(|(e, m)| experiment_data(model, path, e, m, ui))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((models, measured))
+    let data = campaign(model, path, ui)?;
+    Ok((data.models, data.measured))
 }
 
-/// Experiment e's measured data on its model `m`'s sensors and sampling;
-/// every problem names the model file, the experiment and its field.
+/// [`campaign_data`] as the library returns it, with the data's sources.
+pub fn campaign(model: &Model, path: &Path, ui: &Ui) -> Result<CampaignData, Failure> {
+    let data =
+        read_campaign(model, &path.display().to_string(), Vec::new()).map_err(campaign_failure)?;
+    for note in &data.notes {
+        ui.note(format!("note: {note}"));
+    }
+    Ok(data)
+}
+
+/// Experiment e's measured data on its model `m`'s sensors and sampling.
 pub fn experiment_data(
     model: &Model,
     path: &Path,
@@ -35,42 +41,22 @@ pub fn experiment_data(
     m: &Model,
     ui: &Ui,
 ) -> Result<Response, Failure> {
-    let x = &model.experiments[e];
-    let field = if x.sensors.is_some() {
-        "sensors"
-    } else {
-        "data"
-    };
-    let fail = |msg: String| {
-        Failure::input_msg(format!(
-            "{}: experiment \"{}\", field '{field}': {msg}",
-            path.display(),
-            x.name
-        ))
-    };
-    check_exists(path, x)?;
-    let sources: Vec<_> = m.sensors.iter().map(|s| s.data.clone()).collect();
-    let read = read_measurement(&x.data, m, &sources).map_err(|err| fail(err.to_string()))?;
-    let matched =
-        match_data(m, &read.series).map_err(|err| fail(format!("{}: {err}", x.data.display())))?;
-    for note in read.notes.iter().chain(&matched.notes) {
-        ui.note(format!("note: experiment \"{}\": {note}", x.name));
+    let source = Source::File(model.experiments[e].data.clone());
+    let (measured, notes) = read_experiment(model, &path.display().to_string(), e, m, &source)
+        .map_err(campaign_failure)?;
+    for note in notes {
+        ui.note(format!("note: {note}"));
     }
-    Ok(matched.response)
+    Ok(measured)
 }
 
-/// A missing data file is bad input naming the model file (`path`), the
-/// experiment and its field.
-pub fn check_exists(path: &Path, x: &Experiment) -> Result<(), Failure> {
-    if !x.data.is_file() {
-        return Err(Failure::input_msg(format!(
-            "{}: experiment \"{}\", field 'data': cannot read {}: no such file",
-            path.display(),
-            x.name,
-            x.data.display()
-        )));
+/// A campaign's error as a failure: bad input (2), or a failed
+/// computation (1) as [`CampaignError::is_bad_input`] says.
+pub fn campaign_failure(e: CampaignError) -> Failure {
+    match e.is_bad_input() {
+        true => Failure::input_msg(e),
+        false => Failure::failed(e),
     }
-    Ok(())
 }
 
 /// The model as experiment `name` sees it; an unknown name is bad input
@@ -89,4 +75,19 @@ pub fn experiment_model(model: &Model, path: &Path, name: &str) -> Result<Model,
         ))
     })?;
     Ok(model.for_experiment(e))
+}
+
+/// A missing data file is bad input naming the model file (`path`), the
+/// experiment and its field (before the outputs are checked, which would
+/// name the file alone).
+pub fn check_exists(path: &Path, x: &rfeid::model::Experiment) -> Result<(), Failure> {
+    if !x.data.is_file() {
+        return Err(Failure::input_msg(format!(
+            "{}: experiment \"{}\", field 'data': cannot read {}: no such file",
+            path.display(),
+            x.name,
+            x.data.display()
+        )));
+    }
+    Ok(())
 }

@@ -1,11 +1,9 @@
 //! Report files of a run (`--report`, `rfeid report`), and reading a
 //! RESULT.json back.
-use super::estimate::simulate_at_estimate;
 use crate::diagnostics::Failure;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::model::Model;
 use rfeid::report::at_estimate::{self, RenderError};
-use rfeid::report::{report_files, ReportInput};
 use rfeid::simulation::Response;
 use std::path::Path;
 
@@ -30,9 +28,7 @@ pub fn read_result(path: &Path) -> Result<IdentificationResult, Failure> {
     })
 }
 
-/// The report of a campaign: the fitted experiments' sensors side by side
-/// (`sensor[experiment]`, as in the result), each simulated at the estimate,
-/// on the shortest of their records; the experiments' fits in the summary.
+/// The report of a campaign ([`at_estimate::render_campaign`]).
 pub fn render_campaign(
     model: &Model,
     models: &[Model],
@@ -40,41 +36,7 @@ pub fn render_campaign(
     measured: &[Response],
     title: &str,
 ) -> Result<ReportFiles, Failure> {
-    let fitted_idx = model.fitted_experiments();
-    let n = fitted_idx
-        .iter()
-        .map(|&e| measured[e].n_samples)
-        .min()
-        .unwrap_or(0);
-    let (mut y, mut g) = (Vec::new(), Vec::new());
-    let mut sensors = 0;
-    for &e in &fitted_idx {
-        let name = &model.experiments[e].name;
-        let (sim, _) = simulate_at_estimate(result, &models[e], name)?;
-        for c in 0..measured[e].n_sensors {
-            y.extend_from_slice(&measured[e].sensor(c)[..n]);
-            g.extend_from_slice(&sim.sensor(c)[..n]);
-            sensors += 1;
-        }
-    }
-    let stack = |values| Response {
-        n_samples: n,
-        n_sensors: sensors,
-        values,
-    };
-    let (measured, fitted) = (stack(y), stack(g));
-    let first = fitted_idx.first().map_or(0, |&e| e);
-    let time: Vec<f64> = (0..n).map(|k| models[first].sampling.time(k)).collect();
-    let input = ReportInput {
-        title: title.to_string(),
-        model,
-        result,
-        time: &time,
-        measured: &measured,
-        fitted: &fitted,
-        reference: None,
-    };
-    report_files(&input).map_err(|e| Failure::input_msg(format!("report: {e}")))
+    at_estimate::render_campaign(model, models, result, measured, title).map_err(render_failure)
 }
 
 /// Simulates at the estimate, as experiment `experiment` of a campaign

@@ -2,7 +2,7 @@
 //! [`SearchOptions`] from the arguments, the run prepared by the library
 //! ([`options::prepare`]), its notes shown, and the search run.
 use super::failures::{identify_failure, simulation_failure};
-use super::limits::{check_limits, start_threads};
+use super::limits::start_threads;
 use super::progress::Bars;
 use super::show::search_steps_note;
 use crate::cli::{MethodArg, NoiseModelArg, ProfileArgs, SearchArgs, StartArg, WeightsArg};
@@ -143,16 +143,4 @@ fn prepare_failure(e: PrepareError) -> Failure {
         ),
         e @ (PrepareError::Option(_) | PrepareError::AllConstant { .. }) => Failure::input_msg(e),
     }
-}
-
-/// The pipeline's settings from the command line (checked), and the
-/// progress display.
-pub fn search_settings(
-    a: &SearchArgs,
-    start: StartArg,
-    ui: &Ui,
-) -> Result<(Settings, Bars), Failure> {
-    let o = options(a, start);
-    check_limits(&o)?;
-    Ok((o.settings(), Bars::new(a, ui)))
 }

@@ -18,6 +18,7 @@
 pub mod bfgs;
 pub mod blocked_qr;
 pub mod box_map;
+pub mod campaign;
 pub mod cancel;
 pub mod chi_square;
 mod fd_gradient;

@@ -97,7 +97,7 @@ pub struct OptionError {
 }
 
 impl OptionError {
-    fn new(option: &'static str, detail: String) -> Self {
+    pub(crate) fn new(option: &'static str, detail: String) -> Self {
         OptionError { option, detail }
     }
 

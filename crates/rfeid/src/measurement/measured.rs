@@ -105,3 +105,41 @@ pub fn measured_with_force(
     r.n_sensors -= 1;
     Ok((m, force))
 }
+
+/// Where measured data come from: a data file, or a table in memory with
+/// the label that names it in messages (a data frame in the Python
+/// module). Plain values, so a worker thread may read them.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Source {
+    /// A data file (CSV, MAT, UFF).
+    File(PathBuf),
+    /// A table in memory, and its label.
+    Table(String, TimeSeries),
+}
+
+impl Source {
+    /// The file, if the data are one.
+    pub fn file(&self) -> Option<&Path> {
+        match self {
+            Source::File(p) => Some(p),
+            Source::Table(..) => None,
+        }
+    }
+
+    /// What names the data: the file, or the table's label.
+    pub fn label(&self) -> String {
+        match self {
+            Source::File(p) => p.display().to_string(),
+            Source::Table(label, _) => label.clone(),
+        }
+    }
+
+    /// The signals on `model`'s sampling, with the reading's notes
+    /// ([`measured_from_file`], [`measured_from_table`]).
+    pub fn measured(&self, model: &Model) -> Result<Measured, MeasuredError> {
+        match self {
+            Source::File(path) => measured_from_file(path, model),
+            Source::Table(label, table) => measured_from_table(Path::new(label), table, model),
+        }
+    }
+}

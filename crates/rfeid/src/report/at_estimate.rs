@@ -3,7 +3,7 @@
 //! then the report's files ([`report_files`]). `rfeid identify --report`,
 //! `rfeid report` and the Python module's `Result.report` all render here.
 use super::{report_files, ReportError, ReportInput};
-use crate::identification::result::IdentificationResult;
+use crate::identification::result::{EstimateError, IdentificationResult};
 use crate::model::Model;
 use crate::simulation::{Response, SimulationError, Simulator, Workspace};
 
@@ -70,6 +70,60 @@ pub fn render_fitted(
         measured,
         fitted,
         reference,
+    };
+    Ok(report_files(&input)?)
+}
+
+/// The report of a campaign (SPEC §5): the fitted experiments' sensors side
+/// by side (`sensor[experiment]`, as in the result), each experiment's
+/// model (`models`, [`Model::for_experiment`]) simulated at the estimate
+/// with steps chosen there, on the shortest of their records; the
+/// experiments' fits in the summary.
+pub fn render_campaign(
+    model: &Model,
+    models: &[Model],
+    result: &IdentificationResult,
+    measured: &[Response],
+    title: &str,
+) -> Result<Vec<(String, String)>, RenderError> {
+    let fitted_idx = model.fitted_experiments();
+    let n = fitted_idx
+        .iter()
+        .map(|&e| measured[e].n_samples)
+        .min()
+        .unwrap_or(0);
+    let (mut y, mut g) = (Vec::new(), Vec::new());
+    let mut sensors = 0;
+    for &e in &fitted_idx {
+        let name = &model.experiments[e].name;
+        let (sim, _) = result
+            .simulate_at_estimate(&models[e], name)
+            .map_err(|e| match e {
+                EstimateError::NotInModel(m) => RenderError::Parameters(m),
+                EstimateError::Simulation(s) => RenderError::Simulation(s),
+            })?;
+        for c in 0..measured[e].n_sensors {
+            y.extend_from_slice(&measured[e].sensor(c)[..n]);
+            g.extend_from_slice(&sim.sensor(c)[..n]);
+            sensors += 1;
+        }
+    }
+    let stack = |values| Response {
+        n_samples: n,
+        n_sensors: sensors,
+        values,
+    };
+    let (measured, fitted) = (stack(y), stack(g));
+    let first = fitted_idx.first().map_or(0, |&e| e);
+    let time: Vec<f64> = (0..n).map(|k| models[first].sampling.time(k)).collect();
+    let input = ReportInput {
+        title: title.to_string(),
+        model,
+        result,
+        time: &time,
+        measured: &measured,
+        fitted: &fitted,
+        reference: None,
     };
     Ok(report_files(&input)?)
 }
