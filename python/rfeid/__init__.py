@@ -55,6 +55,7 @@ __all__ = [
     "Frf",
     "Verdict",
     "identify",
+    "validate",
     "design",
     "Design",
     "ModelError",
@@ -618,6 +619,51 @@ def identify(
     return Identification(native, notes)
 
 
+def validate(
+    model: Model,
+    result: Union["Identification", PathLike],
+    data: Any = None,
+    *,
+    experiment: Optional[str] = None,
+    from_: Optional[float] = None,
+) -> List[Dict[str, Any]]:
+    """Checks an identification on data, as ``rfeid validate --json``
+    does (the same list): the model simulated at the estimate (steps chosen
+    there) and compared sensor by sensor by the normalised RMS fit, %.
+
+    ``result`` is an :class:`Identification` or a RESULT.json's path;
+    ``data`` a data file, DataFrame or mapping with ``time`` (on the
+    model, or on ``experiment``'s model when named); without ``data``, the
+    named experiment's data file, else every experiment's of a campaign.
+    ``from_`` (s) is the first time compared (default: an experiment's
+    own ``from``, else 0). Returns a list of dicts, one per data set:
+    ``experiment`` (``""`` for data of their own), ``role`` (``"fit"``,
+    ``"validation"`` or ``None``), ``sensors`` and ``fit_percent`` (``None``
+    for a constant signal); ``pandas.DataFrame(...)`` tabulates it.
+    Raises :class:`ModelError` when the result is not of the model,
+    :class:`DataError` for data that do not fit, ``ValueError`` for an
+    unknown ``experiment`` or a bad ``from_``.
+    """
+    if not isinstance(model, Model):
+        raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
+    if isinstance(result, Identification):
+        text, label = result.to_json(), "the result"
+    else:
+        label = os.fspath(result)
+        with open(label, encoding="utf-8") as f:
+            text = f.read()
+    source = None if data is None else _source(data)
+    json_text, notes = _rfeid.validate(
+        model._native, text, label, source,
+        None if experiment is None else str(experiment),
+        _float("from_", from_, True),
+    )
+    for note in notes:
+        if note.startswith("warning: "):
+            warnings.warn(note[len("warning: "):], stacklevel=2)
+    return json.loads(json_text)
+
+
 class Identification:
     """The result of :func:`identify`: estimates and standard errors (SI),
     correlations, the verdict, RESULT.json's document and the report.
@@ -730,6 +776,49 @@ class Identification:
                 "warnings": list(p.get("warnings", [])),
             }
         return out
+
+    @classmethod
+    def load(cls, path: PathLike, model: Optional[Model] = None, data: Any = None) -> "Identification":
+        """An identification read back from a RESULT.json (``rfeid identify
+        -o``, ``rfeid merge`` or :meth:`to_json`), with its model and data,
+        so that :meth:`report`, :meth:`frf` and :func:`validate` work on it.
+
+        ``model`` is the :class:`Model` it was computed with (default: the
+        model file the result records, found as given or beside the
+        RESULT.json); ``data`` its data (a path, a DataFrame or a mapping
+        with ``time``; default: the data file the result records, or a
+        campaign's experiments' files). The result's ``set`` values are
+        applied. Raises :class:`ModelError` when the result is not of the
+        model (an estimate of a parameter it lacks), :class:`DataError` for
+        a file that is not a result or data that do not fit; warns
+        (``UserWarning``) when a file no longer holds what the result
+        records.
+        """
+        path = os.fspath(path)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        try:
+            source = json.loads(text.lstrip("\ufeff")).get("source", {})
+        except (ValueError, AttributeError):
+            source = {}
+        base = os.path.dirname(path)
+
+        def recorded(p: Optional[str], what: str) -> str:
+            if p is None or p.startswith("built-in"):
+                raise TypeError(f"{path}: records no {what} file; give {what}=")
+            return p if os.path.exists(p) or os.path.isabs(p) else os.path.join(base, p)
+
+        if model is None:
+            model = Model.load(recorded(source.get("model"), "model"))
+        if data is None and not model._native.experiments:
+            data = recorded(source.get("data"), "data")
+        native, notes = _rfeid.load_result(
+            text, path, model._native, None if data is None else _source(data)
+        )
+        for note in notes:
+            if note.startswith("warning: "):
+                warnings.warn(note[len("warning: "):], stacklevel=2)
+        return cls(native, notes)
 
     def to_json(self) -> str:
         """Returns RESULT.json's text (a ``str`` of JSON, SI values): the

@@ -13,6 +13,7 @@ mod errors;
 mod model;
 mod result;
 mod run;
+mod validate;
 mod watch;
 
 use pyo3::prelude::*;
@@ -33,6 +34,8 @@ fn _rfeid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<design::PyDesign>()?;
     m.add_function(wrap_pyfunction!(run::identify, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;
+    m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
+    m.add_function(wrap_pyfunction!(validate::load_result, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

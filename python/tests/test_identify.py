@@ -168,6 +168,42 @@ def test_a_campaign_equals_the_command_line(tmp_path, rfeid_cli):
     assert frames.experiments[1]["data"] == "data['mid']"
     path = frames.report(tmp_path / "report")
     assert path.endswith("report.html")
+    # validate equals the command line's --json, from the object and from the file.
+    cli_fits = json.loads(rfeid_cli("validate", model, out, "--json").stdout)
+    assert rfeid.validate(m, res) == cli_fits
+    assert rfeid.validate(m, out) == cli_fits
+    one = json.loads(rfeid_cli("validate", model, out, "--experiment", "high", "--from", "0.1", "--json").stdout)
+    assert rfeid.validate(m, out, experiment="high", from_=0.1) == one
+    # RESULT.json read back with the files it names: the same document, a report.
+    loaded = rfeid.Identification.load(out)
+    assert json.loads(loaded.to_json()) == json.loads(out.read_text())
+    assert loaded.report(tmp_path / "again").endswith("report.html")
+
+
+def test_validate_and_load_of_one_record(tmp_path, rfeid_cli, knee_column):
+    data = measured(tmp_path, rfeid_cli, knee_column, seed=4)
+    other = tmp_path / "other.csv"
+    rfeid_cli("simulate", knee_column, "-o", other, "--noise", "0.02", "--seed", 5, "-q")
+    out = tmp_path / "result.json"
+    rfeid_cli("identify", knee_column, "--data", data, "-o", out, "-q", "--plan", "20")
+    cli = json.loads(rfeid_cli("validate", knee_column, out, "--data", other, "--json").stdout)
+    m = rfeid.Model.load(knee_column)
+    assert rfeid.validate(m, out, str(other)) == cli
+    assert rfeid.validate(m, out, read_csv_exact(other)) == cli
+    with pytest.raises(ValueError, match="from_=-1"):
+        rfeid.validate(m, out, str(other), from_=-1.0)
+    with pytest.raises(ValueError, match="lists no experiments"):
+        rfeid.validate(m, out)
+    loaded = rfeid.Identification.load(out)
+    assert loaded.estimates == {p["name"]: p["estimate"] for p in json.loads(out.read_text())["parameters"]}
+    # A result of another model is refused naming the parameter.
+    lathe = rfeid.Model.load(EXAMPLES / "lathe" / "model.toml")
+    with pytest.raises(rfeid.ModelError, match="not a parameter"):
+        rfeid.validate(lathe, out, str(other))
+    # A data file changed since: a warning.
+    data.write_text(data.read_text().replace("0.0", "0.00", 1))
+    with pytest.warns(UserWarning, match="not what the result was computed with"):
+        rfeid.Identification.load(out)
 
 
 def test_campaign_mistakes_are_named(tmp_path, rfeid_cli):

@@ -8,39 +8,14 @@ use crate::format::table;
 use crate::outputs::Plan;
 use crate::run::belongs::check_belongs;
 use crate::run::digest::changed_input;
-use crate::run::estimate::simulate_at_estimate;
-use crate::run::experiments::experiment_data;
-use crate::run::inputs::{fixed, load, load_data};
+use crate::run::inputs::{fixed, load};
 use crate::run::report::{read_result, render_fitted};
 use crate::ui::Ui;
 use rfeid::identification::result::IdentificationResult;
-use rfeid::measurement::fit_percent;
-use rfeid::model::{Model, Role};
+use rfeid::identification::validation::{self, Case, Fits, ValidationError};
+use rfeid::measurement::measured::Source;
+use rfeid::model::Model;
 use rfeid::simulation::Response;
-use serde::Serialize;
-
-/// One data set compared with the model at the estimate.
-struct Case {
-    /// The experiment's name ("" for a data file of a model without experiments).
-    experiment: String,
-    /// Its model (the experiment's settings applied).
-    model: Model,
-    /// Its measured data.
-    measured: Response,
-    /// The first sample compared.
-    first: usize,
-}
-
-/// The fits of one data set, as printed and as `--json` writes them.
-#[derive(Serialize)]
-struct Fits {
-    experiment: String,
-    /// `fit` or `validation` for an experiment of the model file.
-    role: Option<String>,
-    sensors: Vec<String>,
-    /// Normalised RMS fit per sensor in % (none for a constant signal).
-    fit_percent: Vec<Option<f64>>,
-}
 
 /// Runs the command.
 pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
@@ -103,109 +78,40 @@ pub fn run(args: ValidateArgs, ui: &Ui) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The fits of one data set, and the model's response at the estimate.
+/// The fits of one data set, and the model's response at the estimate
+/// ([`validation::fits`]).
 fn fits_of(
     model: &Model,
     result: &IdentificationResult,
     case: &Case,
 ) -> Result<(Fits, Response), Failure> {
-    let (fitted, _) = simulate_at_estimate(result, &case.model, &case.experiment)?;
-    let fits = (0..case.model.sensors.len())
-        .map(|c| {
-            fit_percent(
-                &case.measured.sensor(c)[case.first..],
-                &fitted.sensor(c)[case.first..],
-            )
-        })
-        .collect();
-    let role = model
-        .experiments
-        .iter()
-        .find(|x| x.name == case.experiment)
-        .map(|x| match x.role {
-            Role::Fit => "fit".to_string(),
-            Role::Validation => "validation".to_string(),
-        });
-    let fits = Fits {
-        experiment: case.experiment.clone(),
-        role,
-        sensors: case.model.sensors.iter().map(|s| s.name.clone()).collect(),
-        fit_percent: fits,
-    };
-    Ok((fits, fitted))
+    validation::fits(model, result, case).map_err(validation_failure)
 }
 
-/// The data sets the arguments name.
+/// The data sets the arguments name ([`validation::cases`]), the
+/// reading's notes shown.
 fn cases(model: &Model, args: &ValidateArgs, ui: &Ui) -> Result<Vec<Case>, Failure> {
-    let index = |name: &str| -> Result<usize, Failure> {
-        model
-            .experiments
-            .iter()
-            .position(|x| x.name == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = model.experiments.iter().map(|x| x.name.as_str()).collect();
-                Failure::input_msg(format!(
-                    "--experiment {name}: {} has no such experiment (it has: {})",
-                    args.model.display(),
-                    if names.is_empty() {
-                        "none".to_string()
-                    } else {
-                        names.join(", ")
-                    }
-                ))
-            })
-    };
-    let first = |m: &Model, from: f64| -> Result<usize, Failure> {
-        let from = args.from.unwrap_or(from);
-        if from < 0.0 || !from.is_finite() {
-            return Err(Failure::input_msg(format!(
-                "--from {from}: must be a time ≥ 0 in seconds"
-            )));
-        }
-        let k = m.sampling.first_sample(from);
-        if k + 2 > m.sampling.n_samples() {
-            return Err(Failure::input_msg(format!(
-                "--from {from}: leaves {} of the record's {} samples",
-                m.sampling.n_samples().saturating_sub(k),
-                m.sampling.n_samples()
-            )));
-        }
-        Ok(k)
-    };
-    let experiment = |e: usize| -> Result<Case, Failure> {
-        let m = model.for_experiment(e);
-        let measured = experiment_data(model, &args.model, e, &m, ui)?;
-        let first = first(&m, model.experiments[e].from)?;
-        Ok(Case {
-            experiment: model.experiments[e].name.clone(),
-            model: m,
-            measured,
-            first,
-        })
-    };
-    match (&args.data, &args.experiment) {
-        (Some(data), name) => {
-            let (m, experiment) = match name {
-                Some(n) => (model.for_experiment(index(n)?), n.clone()),
-                None => (model.clone(), String::new()),
-            };
-            let measured = load_data(data, &m, ui)?;
-            let first = first(&m, 0.0)?;
-            Ok(vec![Case {
-                experiment,
-                model: m,
-                measured,
-                first,
-            }])
-        }
-        (None, Some(n)) => Ok(vec![experiment(index(n)?)?]),
-        (None, None) if !model.experiments.is_empty() => {
-            (0..model.experiments.len()).map(experiment).collect()
-        }
-        (None, None) => Err(Failure::input_msg(format!(
-            "{} lists no experiments: give the data to check with --data FILE",
-            args.model.display()
-        ))),
+    let source = args.data.clone().map(Source::File);
+    let (cases, notes) = validation::cases(
+        model,
+        &args.model.display().to_string(),
+        source.as_ref(),
+        args.experiment.as_deref(),
+        args.from,
+    )
+    .map_err(validation_failure)?;
+    for note in notes {
+        ui.note(format!("note: {note}"));
+    }
+    Ok(cases)
+}
+
+/// A validation's error as a failure: bad input (2) or a failed
+/// computation (1).
+fn validation_failure(e: ValidationError) -> Failure {
+    match e.is_bad_input() {
+        true => Failure::input_msg(e),
+        false => Failure::failed(e),
     }
 }
 

@@ -6,7 +6,6 @@
 //!   built-in benchmark), [`shard_arg`] and [`shard_file`] (shards of a
 //!   plan);
 //! - search set-up: [`limits`], [`search`], [`progress`];
-//! - computing beside the search: [`estimate`] (a model at the estimate);
 //! - a result of this model: [`belongs`];
 //! - inputs unchanged: [`digest`] (what RESULT.json records of its files);
 //! - failures: [`failures`] (library errors as exit statuses);
@@ -20,7 +19,6 @@ pub mod closing;
 pub mod demo_case;
 pub mod design_text;
 pub mod digest;
-pub mod estimate;
 pub mod experiments;
 pub mod failures;
 pub mod inputs;

@@ -40,5 +40,6 @@ pub mod settings;
 pub mod tally;
 pub mod termination;
 pub mod uncertainty;
+pub mod validation;
 pub mod verdict;
 pub mod warning;
