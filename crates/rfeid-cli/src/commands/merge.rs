@@ -18,29 +18,31 @@ use crate::run::failures::identify_failure;
 use crate::run::inputs::{load, load_data, stepped};
 use crate::run::report::render;
 use crate::run::search::prepare;
-use crate::run::shard_file::{read_shard, resolve, run_hash, ShardFile};
+use crate::run::shard_arg::{search_args, shard_failure};
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
-use rfeid::identification::pipeline::{finish, plan, PointOutcome};
+use rfeid::identification::shard::{check_together, merge_shards, MergeError};
+use rfeid::io::shard_file::{read_shard, resolve, run_hash, ShardFile};
 use rfeid::model::Model;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Runs the command.
 pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
-    let shards: Vec<ShardFile> = args
+    let shards: Vec<(PathBuf, ShardFile)> = args
         .shards
         .iter()
-        .map(|p| read_shard(p))
-        .collect::<Result<_, _>>()?;
-    let first = &shards[0];
-    let first_path = &args.shards[0];
-    check_together(&args, &shards)?;
+        .map(|p| read_shard(p).map(|s| (p.clone(), s)))
+        .collect::<Result<_, _>>()
+        .map_err(shard_failure)?;
+    let (first_path, first) = &shards[0];
+    check_together(&shards).map_err(merge_failure)?;
     let model_path = recorded(args.model.as_deref(), &first.model, first_path, "--model")?;
     let data_path = recorded(args.data.as_deref(), &first.data, first_path, "--data")?;
     let model = load(&model_path, ui)?;
     let outputs = check_outputs(&args, &model, &model_path, &data_path)?;
     json_conflict(ui, &outputs)?;
-    let hash = run_hash(&model_path, &model, &data_path, &first.search)?;
+    let hash =
+        run_hash(&model_path, &model, &data_path, &first.search).map_err(Failure::input_msg)?;
     if hash != first.hash {
         return Err(Failure::input_msg(format!(
             "the run's inputs changed since the shards were computed (hash {hash}, the shards' {}): the model file {}, its signal tables, the data file {} or the search settings; run the shards again",
@@ -50,21 +52,14 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         )));
     }
     let measured = load_data(&data_path, &model, ui)?;
-    let mut search = first
-        .search
-        .to_args(args.threads, args.timings)
-        .map_err(|e| {
-            Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
-        })?;
+    let mut search = search_args(&first.search, args.threads, args.timings).map_err(|e| {
+        Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
+    })?;
     search.profile = args.profile.clone();
     let model = stepped(model, &search.steps)?;
     let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
     progress.bar.finish_and_clear();
-    let plan = plan(&problem, &settings).map_err(identify_failure)?;
-    let outcomes = gather(&args, &shards, plan.len())?;
-    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
-    let mut result = finish(problem, &settings, &plan, outcomes, seconds, &progress)
-        .map_err(identify_failure)?;
+    let mut result = merge_shards(problem, &settings, &shards, &progress).map_err(merge_failure)?;
     progress.finish();
     result.source.model = Some(first.model.clone());
     result.source.data = Some(first.data.clone());
@@ -134,96 +129,10 @@ fn check_outputs(
     outputs.check()
 }
 
-/// The outcome of every plan point of a plan of `points`, from the shards.
-fn gather(
-    args: &MergeArgs,
-    shards: &[ShardFile],
-    points: usize,
-) -> Result<Vec<PointOutcome>, Failure> {
-    let mut outcomes: Vec<Option<PointOutcome>> = vec![None; points];
-    for (s, path) in shards.iter().zip(&args.shards) {
-        for p in &s.points {
-            let slot = outcomes.get_mut(p.index).ok_or_else(|| {
-                Failure::input_msg(format!(
-                    "{}: point {} lies beyond the plan of {points}",
-                    path.display(),
-                    p.index,
-                ))
-            })?;
-            // read_shard checked that exactly one of the two is there.
-            *slot = Some(match (&p.cost, &p.failure) {
-                (Some(c), _) => Ok(*c),
-                (None, f) => Err(f.clone().unwrap_or_default()),
-            });
-        }
-    }
-    outcomes
-        .into_iter()
-        .enumerate()
-        .map(|(i, o)| o.ok_or_else(|| Failure::input_msg(format!("no shard holds plan point {i}"))))
-        .collect()
-}
-/// The shards belong to one run, cover every shard number once, and are
-/// each complete.
-fn check_together(args: &MergeArgs, shards: &[ShardFile]) -> Result<(), Failure> {
-    let first = &shards[0];
-    let first_name = args.shards[0].display();
-    let mut seen = vec![false; first.of];
-    for (s, path) in shards.iter().zip(&args.shards) {
-        let name = path.display();
-        if let Some(what) = differs(first, s) {
-            return Err(Failure::input_msg(format!(
-                "{name}: belongs to another run than {first_name}: {what}"
-            )));
-        }
-        if std::mem::replace(&mut seen[s.shard], true) {
-            return Err(Failure::input_msg(format!(
-                "{name}: shard {}/{} is given twice",
-                s.shard, s.of
-            )));
-        }
-        if let Some(what) = s.incomplete() {
-            return Err(Failure::input_msg(format!(
-                "{name}: shard {}/{} is not complete: {what}; run it again to resume it",
-                s.shard, s.of
-            )));
-        }
-    }
-    if let Some(k) = seen.iter().position(|s| !s) {
-        return Err(Failure::input_msg(format!(
-            "shard {k}/{} is missing ({} shard files given, the run has {})",
-            first.of,
-            shards.len(),
-            first.of
-        )));
-    }
-    let seconds: f64 = shards.iter().map(|s| s.seconds).sum();
-    if !seconds.is_finite() {
-        return Err(Failure::input_msg(format!(
-            "the shards' `seconds` add up to {seconds}: a shard file's time was edited"
-        )));
-    }
-    Ok(())
-}
-
-/// What makes shard `s` part of another run than `first`, if anything.
-fn differs(first: &ShardFile, s: &ShardFile) -> Option<String> {
-    if s.hash != first.hash {
-        Some(format!(
-            "their hashes of the model, its tables, the data and the settings differ ({} against {})",
-            s.hash, first.hash
-        ))
-    } else if s.of != first.of {
-        Some(format!(
-            "it is one of {} shards, against {}",
-            s.of, first.of
-        ))
-    } else if s.search != first.search {
-        Some(format!(
-            "its search settings differ ({:?} against {:?})",
-            s.search, first.search
-        ))
-    } else {
-        None
+/// A merge refused (bad input) or a run that could not be finished.
+fn merge_failure(e: MergeError) -> Failure {
+    match e {
+        MergeError::Shards(m) => Failure::input_msg(m),
+        MergeError::Identify(e) => identify_failure(e),
     }
 }

@@ -1,19 +1,13 @@
 //! Digests of input files ([`rfeid::io::digest`]) as the commands use
-//! them. A shard file's run hash is one ([`super::shard_file::run_hash`]);
+//! them. A shard file's run hash is one (`rfeid::io::shard_file::run_hash`);
 //! RESULT.json records one per input file ([`InputDigests`]), so that
 //! `report` and `validate` refuse files that changed since the result was
 //! computed.
 use crate::diagnostics::Failure;
 use rfeid::identification::result::InputDigests;
 use rfeid::io::digest;
-pub use rfeid::io::digest::fnv1a;
 use rfeid::model::Model;
 use std::path::{Path, PathBuf};
-
-/// The bytes of `path`; an unreadable file is bad input naming it.
-pub fn read_bytes(path: &Path) -> Result<Vec<u8>, Failure> {
-    digest::read_bytes(path).map_err(Failure::input_msg)
-}
 
 /// The digest of one file.
 fn file_digest(path: &Path) -> Result<String, Failure> {

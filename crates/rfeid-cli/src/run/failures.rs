@@ -58,3 +58,10 @@ pub fn noise_sensor(model: &Model, e: NoiseError) -> String {
         None => e.to_string(),
     }
 }
+
+impl From<IdentifyError> for Failure {
+    /// As [`identify_failure`] says.
+    fn from(e: IdentifyError) -> Self {
+        identify_failure(e)
+    }
+}

@@ -2,7 +2,7 @@
 //! and the worker threads.
 use crate::diagnostics::Failure;
 use rfeid::identification::options::SearchOptions;
-pub use rfeid::identification::options::{MAX_PLAN, MAX_STARTS};
+
 use std::sync::OnceLock;
 
 /// Checks the search's options against their limits before anything is

@@ -3,8 +3,8 @@
 //!
 //! - inputs: [`inputs`] (a model and its data, `--set`, `--tolerance` /
 //!   `--substeps`), [`experiments`] (a campaign's data), [`demo_case`] (the
-//!   built-in benchmark), [`shard_arg`] and [`shard_file`] (shards of a
-//!   plan);
+//!   built-in benchmark), [`shard_arg`] (`--shard K/N`; the shard files are the
+//!   library's `io::shard_file`);
 //! - search set-up: [`limits`], [`search`], [`progress`];
 //! - a result of this model: [`belongs`];
 //! - inputs unchanged: [`digest`] (what RESULT.json records of its files);
@@ -28,8 +28,5 @@ pub mod progress;
 pub mod report;
 pub mod search;
 pub mod shard_arg;
-pub mod shard_file;
-#[cfg(test)]
-mod shard_fuzz;
 pub mod show;
 pub mod verdict_text;

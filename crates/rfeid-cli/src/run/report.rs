@@ -17,7 +17,7 @@ pub fn read_result(path: &Path) -> Result<IdentificationResult, Failure> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     serde_json::from_str(text).map_err(|e| {
         let shard = serde_json::from_str::<serde_json::Value>(text)
-            .is_ok_and(|v| v["format"] == super::shard_file::FORMAT);
+            .is_ok_and(|v| v["format"] == rfeid::io::shard_file::FORMAT);
         match shard {
             true => Failure::input_msg(format!(
                 "{}: a shard file of `identify --shard`, not a result: merge the shards first (rfeid merge SHARD… -o RESULT.json)",

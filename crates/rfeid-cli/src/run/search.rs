@@ -19,13 +19,6 @@ use rfeid::identification::result::IdentificationResult;
 use rfeid::model::Model;
 use rfeid::simulation::Response;
 
-/// `--weights` of `identify` when not given: the library's
-/// [`rfeid::identification::options::DEFAULT_WEIGHTS`].
-pub const DEFAULT_WEIGHTS: WeightsArg = match options::DEFAULT_WEIGHTS {
-    Weighting::Equal => WeightsArg::Equal,
-    Weighting::EstimatedNoise => WeightsArg::Estimated,
-};
-
 /// The library's start of the local search for `--start`.
 pub fn start_of(start: StartArg) -> Start {
     match start {

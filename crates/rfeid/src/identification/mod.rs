@@ -37,6 +37,7 @@ pub mod result;
 pub mod search;
 pub mod sensor_levels;
 pub mod settings;
+pub mod shard;
 pub mod tally;
 pub mod termination;
 pub mod uncertainty;

@@ -36,6 +36,55 @@ pub const DEFAULT_WEIGHTS: Weighting = Weighting::EstimatedNoise;
 /// of 12 without; the knee–column in 12 of 12 either way, 0.4 s slower.
 pub const DEFAULT_WINDOW: f64 = 0.15;
 
+/// `method`'s values by name, as the command line, shard files and the
+/// Python module spell them.
+pub const METHODS: [(&str, Method); 2] = [("lm", Method::Lm), ("bfgs", Method::Bfgs)];
+/// `weights`' values by name.
+pub const WEIGHTS: [(&str, Weighting); 2] = [
+    ("equal", Weighting::Equal),
+    ("estimated", Weighting::EstimatedNoise),
+];
+/// `noise_model`'s values by name (`ar`: the default autoregressive model).
+pub const NOISE_MODELS: [(&str, NoiseModel); 2] = [
+    (
+        "ar",
+        NoiseModel::Autoregressive {
+            max_order: crate::identification::noise::DEFAULT_MAX_ORDER,
+        },
+    ),
+    ("white", NoiseModel::White),
+];
+/// `start`'s values by name.
+pub const STARTS: [(&str, Start); 2] = [("plan", Start::Plan), ("values", Start::Values)];
+
+/// The value named `value` among `choices` of option `option`; an unknown
+/// name lists the choices.
+pub fn named<T: Copy>(
+    option: &'static str,
+    value: &str,
+    choices: &[(&str, T)],
+) -> Result<T, OptionError> {
+    choices
+        .iter()
+        .find(|(n, _)| *n == value)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<&str> = choices.iter().map(|(n, _)| *n).collect();
+            OptionError::new(
+                option,
+                format!("'{value}': must be one of {}", names.join(", ")),
+            )
+        })
+}
+
+/// The name of `value` among `choices` (`""` if absent).
+pub fn name_of<T: PartialEq>(value: &T, choices: &[(&'static str, T)]) -> &'static str {
+    choices
+        .iter()
+        .find(|(_, v)| v == value)
+        .map_or("", |(n, _)| *n)
+}
+
 /// The options of one identification, named as on the command line.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SearchOptions {

@@ -6,5 +6,8 @@ pub mod digest;
 pub mod mat;
 pub mod model_file;
 pub mod report_dir;
+pub mod shard_file;
+#[cfg(test)]
+mod shard_fuzz;
 pub mod timeseries;
 pub mod uff;

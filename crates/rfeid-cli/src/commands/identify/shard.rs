@@ -7,14 +7,13 @@ use crate::cli::IdentifyArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Checked;
 use crate::run::failures::identify_failure;
-use crate::run::search::prepare;
-use crate::run::shard_file::{
-    read_shard, run_hash, share, write, PointRecord, SearchSpec, ShardFile, FORMAT,
-};
+use crate::run::search::{options, prepare};
 use crate::ui::Ui;
-use rfeid::identification::output_error::OutputError;
-use rfeid::identification::pipeline::{evaluate_points, plan, Silent};
-use rfeid::identification::plan::Plan;
+use rfeid::identification::pipeline::plan;
+use rfeid::identification::shard::evaluate_share;
+use rfeid::io::shard_file::{
+    read_shard, run_hash, shard_text, share, PointRecord, SearchSpec, ShardFile, FORMAT,
+};
 use rfeid::model::Model;
 use rfeid::simulation::Response;
 use std::collections::BTreeMap;
@@ -34,8 +33,9 @@ pub fn run(
     outputs: &Checked,
     ui: &Ui,
 ) -> Result<(), Failure> {
-    let spec = SearchSpec::of(&args.search);
-    let hash = run_hash(&args.model, model, data, &spec)?;
+    let a = &args.search;
+    let spec = SearchSpec::of(&options(a, args.start), a.steps.tolerance, a.steps.substeps);
+    let hash = run_hash(&args.model, model, data, &spec).map_err(Failure::input_msg)?;
     let mut file = ShardFile {
         format: FORMAT.into(),
         hash,
@@ -70,8 +70,15 @@ pub fn run(
             mine.len()
         ));
     }
-    let checkpoints = resumable.then_some(outputs);
-    evaluate(&problem, &plan, &mine, &mut done, &mut file, checkpoints)?;
+    let mut since = Instant::now();
+    evaluate_share(&problem, &plan, &mine, done, &mut file, |f| {
+        // A checkpoint every CHECKPOINT_SECONDS, where the output can resume.
+        if resumable && since.elapsed().as_secs_f64() >= CHECKPOINT_SECONDS {
+            write(outputs, f)?;
+            since = Instant::now();
+        }
+        Ok::<_, Failure>(())
+    })?;
     file.complete = true;
     write(outputs, &file)?;
     let failed = file.points.iter().filter(|p| p.cost.is_none()).count();
@@ -106,7 +113,7 @@ fn resumed(output: &Path, file: &mut ShardFile) -> Result<BTreeMap<usize, PointR
         Failure::input_msg(format!(
             "{}: exists and is not a shard file to resume ({}); remove it or choose another -o",
             output.display(),
-            e.report
+            e.message
         ))
     })?;
     if old.hash != file.hash {
@@ -134,54 +141,9 @@ fn resumed(output: &Path, file: &mut ShardFile) -> Result<BTreeMap<usize, PointR
     Ok(done)
 }
 
-/// Evaluates the points of `mine` not yet `done`, in chunks, writing a
-/// checkpoint through `checkpoints` (when given) every
-/// [`CHECKPOINT_SECONDS`]; at the end `file` holds every point and the
-/// shard's total time.
-fn evaluate(
-    problem: &OutputError<'_>,
-    plan: &Plan,
-    mine: &[usize],
-    done: &mut BTreeMap<usize, PointRecord>,
-    file: &mut ShardFile,
-    checkpoints: Option<&Checked>,
-) -> Result<(), Failure> {
-    let todo: Vec<usize> = mine
-        .iter()
-        .copied()
-        .filter(|i| !done.contains_key(i))
-        .collect();
-    let chunk = (4 * rayon::current_num_threads()).max(1);
-    // Switched to the searches' fewer steps once, not at every chunk
-    // (`evaluate_points` would otherwise take a copy of the problem each time).
-    let mut switched = problem.clone();
-    switched.use_search_steps();
-    let problem = &switched;
-    let mut since = Instant::now();
-    let started = Instant::now();
-    let base_seconds = file.seconds;
-    for (c, indices) in todo.chunks(chunk).enumerate() {
-        let outcomes =
-            evaluate_points(problem, plan, indices, &Silent).map_err(identify_failure)?;
-        for (&index, o) in indices.iter().zip(outcomes) {
-            let record = PointRecord {
-                index,
-                cost: o.as_ref().ok().copied(),
-                failure: o.err(),
-            };
-            done.insert(index, record);
-        }
-        let last = (c + 1) * chunk >= todo.len();
-        if let Some(outputs) = checkpoints.filter(|_| !last) {
-            if since.elapsed().as_secs_f64() >= CHECKPOINT_SECONDS {
-                file.points = done.values().cloned().collect();
-                file.seconds = base_seconds + started.elapsed().as_secs_f64();
-                write(outputs, file)?;
-                since = Instant::now();
-            }
-        }
-    }
-    file.points = std::mem::take(done).into_values().collect();
-    file.seconds = base_seconds + started.elapsed().as_secs_f64();
-    Ok(())
+/// Writes the shard file (`-o`) through the run's checked outputs.
+fn write(outputs: &Checked, file: &ShardFile) -> Result<(), Failure> {
+    let mut batch = outputs.batch();
+    batch.file("-o", shard_text(file))?;
+    batch.commit()
 }

@@ -8,16 +8,34 @@
 //! check that the shards belong together, not a protection against
 //! tampering), the shard's number, the search settings, the model and data
 //! paths, and J (or the failure) at every finished point.
-use super::digest::{fnv1a, read_bytes};
-use super::limits::{MAX_PLAN, MAX_STARTS};
-use super::search::DEFAULT_WEIGHTS;
-use crate::cli::{MethodArg, NoiseModelArg, ProfileArgs, SearchArgs, StepArgs, WeightsArg};
-use crate::diagnostics::Failure;
-use crate::outputs::Checked;
-use clap::ValueEnum;
-use rfeid::model::Model;
+use crate::identification::options::{
+    name_of, named, OptionError, SearchOptions, DEFAULT_WEIGHTS, MAX_PLAN, MAX_STARTS, METHODS,
+    NOISE_MODELS, WEIGHTS,
+};
+use crate::io::digest::{fnv1a, read_bytes, DigestError};
+use crate::model::Model;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+
+/// A shard file that cannot be used: the file and what is wrong (the
+/// field, or the line and column of JSON that does not parse).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct ShardError {
+    /// The shard file.
+    pub path: PathBuf,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ShardError {
+    fn new(path: &Path, message: String) -> Self {
+        ShardError {
+            path: path.to_path_buf(),
+            message,
+        }
+    }
+}
 
 /// The format tag of a shard file.
 pub const FORMAT: &str = "rfeid-shard-1";
@@ -56,45 +74,36 @@ pub struct SearchSpec {
 }
 
 impl SearchSpec {
-    /// The settings of `a`.
-    pub fn of(a: &SearchArgs) -> Self {
-        let name = |v: Option<clap::builder::PossibleValue>| {
-            v.map(|v| v.get_name().to_string()).unwrap_or_default()
-        };
+    /// The settings of `o` with the integrator's `tolerance` and
+    /// `substeps` (the model's when `None`).
+    pub fn of(o: &SearchOptions, tolerance: Option<f64>, substeps: Option<usize>) -> Self {
         SearchSpec {
-            plan: a.plan,
-            starts: a.starts,
-            method: name(a.method.to_possible_value()),
-            weights: name(a.weights.unwrap_or(DEFAULT_WEIGHTS).to_possible_value()),
-            noise_model: name(a.noise_model.to_possible_value()),
-            from: a.from,
-            tolerance: a.steps.tolerance,
-            substeps: a.steps.substeps,
-            window: a.window,
+            plan: o.plan,
+            starts: o.starts,
+            method: name_of(&o.method, &METHODS).into(),
+            weights: name_of(&o.weights.unwrap_or(DEFAULT_WEIGHTS), &WEIGHTS).into(),
+            noise_model: name_of(&o.noise_model, &NOISE_MODELS).into(),
+            from: o.from,
+            tolerance,
+            substeps,
+            window: o.window,
         }
     }
 
-    /// Search arguments with these settings and `threads`.
-    pub fn to_args(&self, threads: Option<usize>, timings: bool) -> Result<SearchArgs, String> {
-        Ok(SearchArgs {
+    /// The search options of these settings with `threads`. Memory, like
+    /// the threads, is the merging machine's (its default); profiles do not
+    /// change the plan, so the merge asks for them.
+    pub fn options(&self, threads: Option<usize>) -> Result<SearchOptions, OptionError> {
+        Ok(SearchOptions {
             plan: self.plan,
             starts: self.starts,
-            method: MethodArg::from_str(&self.method, false)?,
-            weights: Some(WeightsArg::from_str(&self.weights, false)?),
-            noise_model: NoiseModelArg::from_str(&self.noise_model, false)?,
+            method: named("method", &self.method, &METHODS)?,
+            weights: Some(named("weights", &self.weights, &WEIGHTS)?),
+            noise_model: named("noise-model", &self.noise_model, &NOISE_MODELS)?,
             threads,
             from: self.from,
-            timings,
-            steps: StepArgs {
-                tolerance: self.tolerance,
-                substeps: self.substeps,
-            },
             window: self.window,
-            // Memory, like the threads, is the merging machine's: its
-            // default.
-            jacobian_memory: None,
-            // Profiles do not change the plan: `merge` asks for them.
-            profile: ProfileArgs::default(),
+            ..SearchOptions::default()
         })
     }
 }
@@ -144,32 +153,28 @@ pub fn run_hash(
     model: &Model,
     data: &Path,
     spec: &SearchSpec,
-) -> Result<String, Failure> {
+) -> Result<String, DigestError> {
     let mut files = vec![read_bytes(model_path)?];
     for f in &model.files {
         files.push(read_bytes(f)?);
     }
     files.push(read_bytes(data)?);
-    files.push(
-        serde_json::to_vec(spec)
-            .map_err(|e| Failure::failed(format!("the settings as JSON: {e}")))?,
-    );
+    files.push(serde_json::to_vec(spec).expect("the settings serialise"));
     files.insert(0, FORMAT.as_bytes().to_vec());
     let parts: Vec<&[u8]> = files.iter().map(Vec::as_slice).collect();
     Ok(fnv1a(&parts))
 }
 
 /// Reads a shard file.
-pub fn read_shard(path: &Path) -> Result<ShardFile, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
+pub fn read_shard(path: &Path) -> Result<ShardFile, ShardError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ShardError::new(path, e.to_string()))?;
     parse_shard(&text, path)
 }
 
 /// A shard file's `text`, read from `path`: parsed, its format checked, and
 /// its content validated ([`ShardFile::validate`]); a refusal names the
 /// file and the field (or the line and column of broken JSON).
-pub fn parse_shard(text: &str, path: &Path) -> Result<ShardFile, Failure> {
+pub fn parse_shard(text: &str, path: &Path) -> Result<ShardFile, ShardError> {
     // A byte-order mark (an editor's) is not JSON; it is no reason to refuse.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut de = serde_json::Deserializer::from_str(text);
@@ -177,29 +182,23 @@ pub fn parse_shard(text: &str, path: &Path) -> Result<ShardFile, Failure> {
         .map_err(|e| not_a_shard(path, &e.path().to_string(), e.inner()))?;
     de.end().map_err(|e| not_a_shard(path, ".", &e))?;
     if shard.format != FORMAT {
-        return Err(Failure::input_msg(format!(
-            "{}: `format` is '{}', expected '{FORMAT}'",
-            path.display(),
-            shard.format
-        )));
+        let message = format!("`format` is '{}', expected '{FORMAT}'", shard.format);
+        return Err(ShardError::new(path, message));
     }
-    shard.validate().map_err(|(field, what)| {
-        Failure::input_msg(format!("{}: `{field}` {what}", path.display()))
-    })?;
+    shard
+        .validate()
+        .map_err(|(field, what)| ShardError::new(path, format!("`{field}` {what}")))?;
     Ok(shard)
 }
 
 /// A shard file that does not parse: the file, the field at `field` (`.`:
 /// none, the JSON itself), and serde's message (with line and column).
-fn not_a_shard(path: &Path, field: &str, e: &serde_json::Error) -> Failure {
+fn not_a_shard(path: &Path, field: &str, e: &serde_json::Error) -> ShardError {
     let at = match field {
         "." | "" => String::new(),
         f => format!("`{f}`: "),
     };
-    Failure::input_msg(format!(
-        "{}: not an rfeid shard file: {at}{e}",
-        path.display()
-    ))
+    ShardError::new(path, format!("not an rfeid shard file: {at}{e}"))
 }
 
 impl ShardFile {
@@ -308,14 +307,11 @@ pub fn share(k: usize, n: usize, points: usize) -> Vec<usize> {
     (k..points).step_by(n).collect()
 }
 
-/// Writes the shard file (`-o`) through the run's checked outputs.
-pub fn write(outputs: &Checked, file: &ShardFile) -> Result<(), Failure> {
-    let mut text = serde_json::to_vec_pretty(file)
-        .map_err(|e| Failure::failed(format!("the shard as JSON: {e}")))?;
+/// The shard file's text: pretty JSON and a final newline.
+pub fn shard_text(file: &ShardFile) -> Vec<u8> {
+    let mut text = serde_json::to_vec_pretty(file).expect("a shard serialises");
     text.push(b'\n');
-    let mut batch = outputs.batch();
-    batch.file("-o", text)?;
-    batch.commit()
+    text
 }
 
 /// Resolves a path recorded in a shard file: as given if it exists (or is
