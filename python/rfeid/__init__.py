@@ -56,6 +56,7 @@ __all__ = [
     "Verdict",
     "identify",
     "validate",
+    "merge",
     "design",
     "Design",
     "ModelError",
@@ -518,7 +519,9 @@ def identify(
     progress: bool = False,
     profiles: Union[None, bool, Sequence[str]] = None,
     profile_points: int = 20,
-) -> "Identification":
+    shard: Optional[Tuple[int, int]] = None,
+    output: Optional[PathLike] = None,
+) -> Any:
     """Identifies the parameters with a box from measured data, as
     ``rfeid identify`` with the same options does (same numbers).
 
@@ -541,6 +544,15 @@ def identify(
     dict of experiment name -> data (a path, a DataFrame or a mapping as
     above). A campaign's local searches fit whole records (``window`` is
     refused), and an experiment's own ``from`` replaces ``from_``.
+
+    ``shard=(K, N)`` with ``output=PATH`` runs shard K of N of the LP_τ plan
+    only (plan points i with i mod N = K), as ``rfeid identify --shard
+    K/N -o PATH`` does, and writes the same shard file (resuming one of
+    this run and shard already at ``output``); returns ``output`` as a
+    ``str``. :func:`merge` (or ``rfeid merge``) continues from the N
+    shards. A shard needs a model loaded from a file and ``data`` a file
+    (both recorded in the shard for the merge), and takes neither ``set``,
+    ``start="values"`` nor ``profiles`` (give those to the merge).
 
     Options have the command line's names and defaults:
 
@@ -586,6 +598,13 @@ def identify(
     """
     if not isinstance(model, Model):
         raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
+    if shard is not None:
+        return _shard(model, data, shard, output, set=set, plan=plan, starts=starts, method=method,
+                      weights=weights, noise_model=noise_model, window=window, from_=from_,
+                      threads=threads, start=start, tolerance=tolerance, substeps=substeps,
+                      profiles=profiles)
+    if output is not None:
+        raise TypeError("output: only with shard=(K, N); an identification is returned, not written")
     source, experiments = _data_args(model, data)
     bar = _Bar() if progress else None
     try:
@@ -616,6 +635,86 @@ def identify(
     for note in notes:
         if note.startswith("warning: "):
             warnings.warn(note[len("warning: "):], stacklevel=2)
+    return Identification(native, notes)
+
+
+def _shard(model: Model, data: Any, shard: Any, output: Any, *, set: SetValues,
+           profiles: Any, **options: Any) -> str:
+    """:func:`identify` with ``shard``: writes shard K of N to ``output``."""
+    if not (isinstance(shard, tuple) and len(shard) == 2):
+        raise TypeError(f"shard={shard!r}: expected a tuple (K, N) with 0 <= K < N")
+    k, n = _int("shard[0]", shard[0]), _int("shard[1]", shard[1])
+    if output is None:
+        raise TypeError("output: needed with shard, the path the shard file is written to")
+    if not isinstance(data, (str, os.PathLike)):
+        raise TypeError(
+            f"data: a shard needs a data file (its path is recorded for the merge), not {type(data).__name__}"
+        )
+    if set:
+        raise ValueError("set with shard: shards share one run's model file; write the values into a copy of it")
+    if _profile_names(profiles) is not None:
+        raise ValueError("profiles with shard: a shard computes no estimate to profile; give profiles to merge")
+    out = os.fspath(output)
+    _rfeid.identify_shard(
+        model._native, os.fspath(data), (k, n), out,
+        plan=_int("plan", options["plan"]),
+        starts=_int("starts", options["starts"]),
+        method=options["method"],
+        weights=options["weights"],
+        noise_model=options["noise_model"],
+        window=_float("window", options["window"], True),
+        from_=_float("from_", options["from_"]),
+        threads=_int("threads", options["threads"], True),
+        start=options["start"],
+        tolerance=_float("tolerance", options["tolerance"], True),
+        substeps=_int("substeps", options["substeps"], True),
+    )
+    return out
+
+
+def merge(
+    shards: Sequence[PathLike],
+    *,
+    model: Union[None, Model, PathLike] = None,
+    data: Optional[PathLike] = None,
+    threads: Optional[int] = None,
+    progress: bool = False,
+    profiles: Union[None, bool, Sequence[str]] = None,
+    profile_points: int = 20,
+) -> "Identification":
+    """Merges the shard files of one run (``identify(shard=...)`` or
+    ``rfeid identify --shard``) into its :class:`Identification`, as ``rfeid
+    merge`` does: every shard of the run, each complete, with the model and
+    data files they record (found as recorded, else beside the first
+    shard; ``model`` and ``data`` give them instead), which must still be
+    what the shards were computed from. The local searches, bounds and
+    verdict then run here, with ``threads`` and ``profiles`` as in
+    :func:`identify`. The result equals the single run's in every field
+    but the wall times and the thread count. Raises :class:`DataError` for
+    shards that do not make one complete run (naming the file) or inputs
+    that changed since.
+    """
+    paths = [os.fspath(p) for p in ([shards] if isinstance(shards, (str, os.PathLike)) else shards)]
+    if not paths:
+        raise ValueError("shards: no shard files given")
+    if isinstance(model, Model):
+        if model.path is None:
+            raise TypeError("model: a Model loaded from a file (Model.load), whose file the shards hashed")
+        model = model.path
+    bar = _Bar() if progress else None
+    try:
+        native, notes = _rfeid.merge(
+            paths,
+            None if model is None else os.fspath(model),
+            None if data is None else os.fspath(data),
+            _int("threads", threads, True),
+            bar,
+            _profile_names(profiles),
+            _int("profile_points", profile_points),
+        )
+    finally:
+        if bar is not None:
+            bar.close()
     return Identification(native, notes)
 
 

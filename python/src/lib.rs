@@ -13,6 +13,7 @@ mod errors;
 mod model;
 mod result;
 mod run;
+mod shards;
 mod validate;
 mod watch;
 
@@ -35,6 +36,8 @@ fn _rfeid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::identify, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;
     m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
+    m.add_function(wrap_pyfunction!(shards::identify_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(shards::merge, m)?)?;
     m.add_function(wrap_pyfunction!(validate::load_result, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -11,33 +11,23 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rfeid::identification::campaign::{prepare_campaign, read_campaign, record_experiments};
 use rfeid::identification::cancel::Cancel;
-use rfeid::identification::options::{prepare, SearchOptions};
-use rfeid::identification::pipeline::{
-    identify as run_pipeline, Method, NoiseModel, ProfileRequest, Start, Weighting,
+use rfeid::identification::options::{
+    named, prepare, SearchOptions, METHODS, NOISE_MODELS, STARTS, WEIGHTS,
 };
+use rfeid::identification::pipeline::{identify as run_pipeline, ProfileRequest};
 use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::result::{IdentificationResult, InputDigests};
 use rfeid::io::digest::file_digest;
 use rfeid::model::{set_values, Model};
 
-/// A keyword's value among its choices.
-fn choice<T: Copy>(name: &str, value: &str, choices: &[(&str, T)]) -> PyResult<T> {
-    choices
-        .iter()
-        .find(|(n, _)| *n == value)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<&str> = choices.iter().map(|(n, _)| *n).collect();
-            PyValueError::new_err(format!(
-                "{name}='{value}': must be one of {}",
-                names.join(", ")
-            ))
-        })
+/// A keyword's value among the library's names for it ([`named`]).
+fn choice<T: Copy>(option: &'static str, value: &str, choices: &[(&str, T)]) -> PyResult<T> {
+    named(option, value, choices).map_err(|e| option_error(&e))
 }
 
 /// The library's options from the keywords, with their names.
 #[allow(clippy::too_many_arguments)]
-fn search_options(
+pub(crate) fn search_options(
     plan: usize,
     starts: usize,
     method: &str,
@@ -53,36 +43,15 @@ fn search_options(
     Ok(SearchOptions {
         plan,
         starts,
-        method: choice(
-            "method",
-            method,
-            &[("lm", Method::Lm), ("bfgs", Method::Bfgs)],
-        )?,
+        method: choice("method", method, &METHODS)?,
         weights: weights
-            .map(|w| {
-                choice(
-                    "weights",
-                    w,
-                    &[
-                        ("equal", Weighting::Equal),
-                        ("estimated", Weighting::EstimatedNoise),
-                    ],
-                )
-            })
+            .map(|w| choice("weights", w, &WEIGHTS))
             .transpose()?,
-        noise_model: choice(
-            "noise_model",
-            noise_model,
-            &[("ar", NoiseModel::default()), ("white", NoiseModel::White)],
-        )?,
+        noise_model: choice("noise-model", noise_model, &NOISE_MODELS)?,
         threads,
         from: from_,
         window,
-        start: choice(
-            "start",
-            start,
-            &[("plan", Start::Plan), ("values", Start::Values)],
-        )?,
+        start: choice("start", start, &STARTS)?,
         jacobian_memory,
         profiles,
     })

@@ -263,3 +263,42 @@ def test_profiles_equal_the_command_lines(tmp_path, rfeid_cli, knee_column):
     assert rfeid.identify(m, str(data), start="values").profiles == {}
     with pytest.raises(ValueError, match="'k9'"):
         rfeid.identify(m, str(data), start="values", profiles=["k9"])
+
+
+def test_shards_from_python_and_the_command_line_merge_either_way(tmp_path, rfeid_cli, knee_column):
+    data = measured(tmp_path, rfeid_cli, knee_column, seed=6)
+    one = tmp_path / "one.json"
+    rfeid_cli("identify", knee_column, "--data", data, "-o", one, "-q", "--plan", "12")
+
+    def comparable(doc):
+        doc = dict(doc)
+        doc.pop("timings"), doc.pop("threads")
+        return doc
+
+    single = comparable(json.loads(one.read_text()))
+    m = rfeid.Model.load(knee_column)
+    # Three shards from Python, merged by the command line.
+    py_shards = [rfeid.identify(m, str(data), plan=12, shard=(k, 3), output=tmp_path / f"py{k}.json")
+                 for k in range(3)]
+    merged = tmp_path / "merged.json"
+    rfeid_cli("merge", *py_shards, "-o", merged, "-q")
+    assert comparable(json.loads(merged.read_text())) == single
+    # Three shards from the command line, merged by Python.
+    cli_shards = []
+    for k in range(3):
+        path = tmp_path / f"cli{k}.json"
+        rfeid_cli("identify", knee_column, "--data", data, "-o", path, "-q", "--plan", "12", "--shard", f"{k}/3")
+        cli_shards.append(path)
+        assert json.loads(path.read_text())["points"] == json.loads(open(py_shards[k]).read())["points"]
+    res = rfeid.merge(cli_shards)
+    assert comparable(json.loads(res.to_json())) == single
+    # Mistakes: a shard missing, a shard twice, a shard of a data frame.
+    with pytest.raises(rfeid.DataError, match="missing"):
+        rfeid.merge(cli_shards[:2])
+    with pytest.raises(rfeid.DataError, match="twice"):
+        rfeid.merge([cli_shards[0], cli_shards[0], cli_shards[1]])
+    with pytest.raises(TypeError, match="data file"):
+        rfeid.identify(m, read_csv_exact(data), plan=12, shard=(0, 3), output=tmp_path / "x.json")
+    with pytest.raises(ValueError, match="shard=\\(3, 3\\)"):
+        rfeid.identify(m, str(data), plan=12, shard=(3, 3), output=tmp_path / "x.json")
+    assert not (tmp_path / "x.json").exists()

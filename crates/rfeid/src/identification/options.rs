@@ -199,7 +199,7 @@ pub fn keyword_spelling(text: &str) -> String {
 /// Whether `text` starts with a number (what follows an option's name
 /// when it is the option's value).
 fn is_value(text: &str) -> bool {
-    text.starts_with(|c: char| c.is_ascii_digit() || "+-.".contains(c))
+    text.starts_with(|c: char| c.is_ascii_digit() || "+-.'".contains(c))
         || ["inf", "nan", "NaN"].iter().any(|w| text.starts_with(w))
 }
 
@@ -459,6 +459,10 @@ mod tests {
             "over_box without choose: give choose K"
         );
         assert_eq!(keyword_spelling("no option here"), "no option here");
+        assert_eq!(
+            keyword_spelling("--method 'x': must be one of lm, bfgs"),
+            "method='x': must be one of lm, bfgs"
+        );
         assert_eq!(keyword_spelling("--noise -1: must be"), "noise=-1: must be");
         assert_eq!(
             keyword_spelling("--set a_n1: not finite"),
