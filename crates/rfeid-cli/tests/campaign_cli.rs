@@ -269,6 +269,12 @@ fn campaign_mistakes_exit_2_naming_file_entry_and_field() {
         &["campaign.toml", "\"b\"", "data", "acc_x"],
     );
 
+    // --window with a campaign: refused, not ignored.
+    simulate_experiment(&dir, &m, "b", 2);
+    let mut v = id(&m);
+    v.extend([os("--window"), os("0.3")]);
+    call(&v, &["--window 0.3", "campaign", "whole records"]);
+
     // --data with a model that lists experiments.
     let mut v = id(&m);
     v.extend([os("--data"), dir.join("a.csv").into_os_string()]);
