@@ -62,6 +62,7 @@ __all__ = [
     "ModelError",
     "DataError",
     "IdentificationError",
+    "Cancelled",
     "__version__",
 ]
 
@@ -179,8 +180,19 @@ class Model:
     samples and sample rate.
     """
 
-    def __init__(self, native: _rfeid.Model) -> None:
+    def __init__(self, native: _rfeid.Model, source: Optional[Tuple[str, ...]] = None) -> None:
         self._native = native
+        # How to read it again, for pickling: ("file", path) or ("text", text, base_dir).
+        self._source = source
+
+    def __reduce__(self) -> Any:
+        """A model pickles as what it was read from (its file's path, or its
+        text), and is read again on unpickling (multiprocessing, joblib)."""
+        if self._source is None:
+            raise TypeError("this rfeid.Model cannot be pickled: load it with Model.load or Model.from_toml")
+        if self._source[0] == "file":
+            return (Model.load, (self._source[1],))
+        return (Model.from_toml, (self._source[1], self._source[2]))
 
     @classmethod
     def load(cls, path: PathLike) -> "Model":
@@ -190,7 +202,7 @@ class Model:
         file, entry and field of a problem (a missing or unreadable file
         too).
         """
-        return cls(_rfeid.Model.load(os.fspath(path)))
+        return cls(_rfeid.Model.load(os.fspath(path)), ("file", os.fspath(path)))
 
     @classmethod
     def from_toml(cls, text: str, base_dir: PathLike = ".") -> "Model":
@@ -201,7 +213,10 @@ class Model:
         (default: the current directory). Raises :class:`ModelError` as
         :meth:`load` does.
         """
-        return cls(_rfeid.Model.from_toml(text, os.fspath(base_dir)))
+        return cls(
+            _rfeid.Model.from_toml(text, os.fspath(base_dir)),
+            ("text", text, os.path.abspath(os.fspath(base_dir))),
+        )
 
     @property
     def path(self) -> Optional[str]:
@@ -263,6 +278,7 @@ class Model:
         seed: int = 0,
         tolerance: Optional[float] = None,
         substeps: Optional[int] = None,
+        experiment: Optional[str] = None,
     ) -> "Simulation":
         """The sensors' response at the parameters' values, as ``rfeid simulate``.
 
@@ -280,7 +296,11 @@ class Model:
         at ``noise_corner`` Hz if given (the standard deviation stays the
         same); ``tolerance`` (the relative RMS error the integrator's steps
         are chosen for, 1e-13 to 1e-2) and ``substeps`` (steps per sample,
-        1 to 1000) override the model's integrator settings.
+        1 to 1000) override the model's integrator settings. ``experiment``
+        names one of a campaign's experiments (:attr:`experiments`): its
+        ``set`` values, sampling, excitations and sensors are simulated
+        (``--experiment``); without it a campaign's model is simulated at
+        its own values.
 
         Raises :class:`ModelError` for an unknown parameter, a value of the
         wrong dimension or a bad ``tolerance``/``substeps``, ``ValueError``
@@ -299,13 +319,15 @@ class Model:
             _int("seed", seed),
             _float("tolerance", tolerance, True),
             _int("substeps", substeps, True),
+            None if experiment is None else str(experiment),
         )
         for note in notes:
             warnings.warn(note, stacklevel=2)
+        sensors = self._native.experiment_sensors(experiment) if experiment is not None else None
         return Simulation(
             time=_floats(time),
-            names=self.sensors,
-            units=self.sensor_units,
+            names=sensors[0] if sensors else self.sensors,
+            units=sensors[1] if sensors else self.sensor_units,
             values=_floats(values).reshape(c, n).T.copy(),
         )
 
@@ -393,6 +415,13 @@ def _column(label: str, name: str, values: Any) -> bytes:
     if kind in "bc":
         what = "boolean" if kind == "b" else "complex"
         raise DataError(f"{label}: column '{name}' is {what}; a signal is real numbers (float)")
+    if kind in "mM":
+        what = "timedelta" if kind == "m" else "datetime"
+        raise DataError(
+            f"{label}: column '{name}' holds {what} values; times and signals are seconds and SI "
+            "numbers (float): convert with .dt.total_seconds() (or "
+            "(t - t[0]).dt.total_seconds() for datetimes)"
+        )
     try:
         array = np.asarray(raw, dtype=np.float64)
     except (TypeError, ValueError) as e:
@@ -459,6 +488,30 @@ class _Bar:
             sys.stderr.flush()
 
 
+class Cancelled(Exception):
+    """Raised by :func:`identify` or :func:`merge` when the ``cancel``
+    event given to it was set: the run stopped within about 50 ms plus one
+    simulation, and nothing keeps computing."""
+
+
+def _watch(bar: Optional[_Bar], cancel: Any) -> Any:
+    """The native call's progress callback: the bar (if any), and a check
+    of ``cancel`` (anything with ``is_set()``, a ``threading.Event``)
+    that raises :class:`Cancelled` once it is set, which stops the run."""
+    if cancel is None:
+        return bar
+    if not callable(getattr(cancel, "is_set", None)):
+        raise TypeError(f"cancel: expected a threading.Event (with is_set()), not {type(cancel).__name__}")
+
+    def call(*state: Any) -> None:
+        if bar is not None:
+            bar(*state)
+        if cancel.is_set():
+            raise Cancelled("the run was cancelled (its cancel event was set)")
+
+    return call
+
+
 def _profile_names(profiles: Union[None, bool, Sequence[str]]) -> Optional[List[str]]:
     """The native ``profiles``: ``None`` for none, ``[]`` for every
     parameter, else the names."""
@@ -469,6 +522,15 @@ def _profile_names(profiles: Union[None, bool, Sequence[str]]) -> Optional[List[
     if isinstance(profiles, str):
         return [profiles]
     return [str(p) for p in profiles]
+
+
+def _warn_notes(notes: Sequence[str]) -> None:
+    """Issues the library's notes of a reading (a record shifted or cut, a
+    column read by no sensor, a constant signal) as warnings (``UserWarning``), as
+    the command line prints them; a ``"warning: "`` prefix is dropped."""
+    for note in notes:
+        text = note[len("warning: "):] if note.startswith("warning: ") else note
+        warnings.warn(text, stacklevel=3)
 
 
 def _source(data: Any, label: Optional[str] = None) -> Any:
@@ -521,14 +583,17 @@ def identify(
     profile_points: int = 20,
     shard: Optional[Tuple[int, int]] = None,
     output: Optional[PathLike] = None,
+    cancel: Any = None,
 ) -> Any:
     """Identifies the parameters with a box from measured data, as
     ``rfeid identify`` with the same options does (same numbers).
 
     Returns an :class:`Identification`: estimates and standard errors in
     SI units, correlations, the :class:`Verdict`, RESULT.json's document
-    and the report. Notes of the reading are kept in its ``notes``; those
-    that are warnings are also issued as ``UserWarning``.
+    and the report. Notes of the reading (a record taken as starting at
+    t = 0, a longer one cut, a column read by no sensor, a constant
+    signal) are issued as warnings (``UserWarning``), as the command line prints
+    them, and kept in its ``notes``.
 
     ``data`` is a data file (CSV, MAT, UFF: a ``str`` or path), a
     DataFrame with a ``time`` column (or index, s) and a column per sensor
@@ -580,6 +645,9 @@ def identify(
       same results to rounding; 0: always);
     - ``progress=True``: shows the plan's bar and the local search's
       iterations on standard error;
+    - ``cancel``: a ``threading.Event``; setting it (from another thread,
+      say a GUI's) stops the run within about 50 ms and raises
+      :class:`Cancelled` (Ctrl-C does the same in the main thread);
     - ``profiles``: after the bounds, the profile likelihoods of these
       identified parameters (a list of names; ``True``: every one; ``None``,
       the default: none), on ``profile_points`` grid points each (20; 2 to
@@ -607,6 +675,7 @@ def identify(
         raise TypeError("output: only with shard=(K, N); an identification is returned, not written")
     source, experiments = _data_args(model, data)
     bar = _Bar() if progress else None
+    watch = _watch(bar, cancel)
     try:
         native, notes = _rfeid.identify(
             model._native,
@@ -624,7 +693,7 @@ def identify(
             tolerance=_float("tolerance", tolerance, True),
             substeps=_int("substeps", substeps, True),
             jacobian_memory=_int("jacobian_memory", jacobian_memory, True),
-            progress=bar,
+            progress=watch,
             profiles=_profile_names(profiles),
             profile_points=_int("profile_points", profile_points),
             experiments=experiments,
@@ -632,9 +701,7 @@ def identify(
     finally:
         if bar is not None:
             bar.close()
-    for note in notes:
-        if note.startswith("warning: "):
-            warnings.warn(note[len("warning: "):], stacklevel=2)
+    _warn_notes(notes)
     return Identification(native, notes)
 
 
@@ -681,6 +748,7 @@ def merge(
     progress: bool = False,
     profiles: Union[None, bool, Sequence[str]] = None,
     profile_points: int = 20,
+    cancel: Any = None,
 ) -> "Identification":
     """Merges the shard files of one run (``identify(shard=...)`` or
     ``rfeid identify --shard``) into its :class:`Identification`, as ``rfeid
@@ -702,19 +770,21 @@ def merge(
             raise TypeError("model: a Model loaded from a file (Model.load), whose file the shards hashed")
         model = model.path
     bar = _Bar() if progress else None
+    watch = _watch(bar, cancel)
     try:
         native, notes = _rfeid.merge(
             paths,
             None if model is None else os.fspath(model),
             None if data is None else os.fspath(data),
             _int("threads", threads, True),
-            bar,
+            watch,
             _profile_names(profiles),
             _int("profile_points", profile_points),
         )
     finally:
         if bar is not None:
             bar.close()
+    _warn_notes(notes)
     return Identification(native, notes)
 
 
@@ -757,9 +827,7 @@ def validate(
         None if experiment is None else str(experiment),
         _float("from_", from_, True),
     )
-    for note in notes:
-        if note.startswith("warning: "):
-            warnings.warn(note[len("warning: "):], stacklevel=2)
+    _warn_notes(notes)
     return json.loads(json_text)
 
 
@@ -777,6 +845,13 @@ class Identification:
     errors in the units the model file uses, and the verdict's reasons;
     Jupyter shows it as an HTML table.
     """
+
+    def __reduce__(self) -> Any:
+        raise TypeError(
+            "an rfeid.Identification holds its model and data in native memory and cannot be "
+            "pickled: pass res.to_json() (or res.document) instead, and read a written "
+            "RESULT.json back with rfeid.Identification.load(path)"
+        )
 
     def __init__(self, native: _rfeid.Identification, notes: Sequence[str] = ()) -> None:
         self._native = native
@@ -914,9 +989,7 @@ class Identification:
         native, notes = _rfeid.load_result(
             text, path, model._native, None if data is None else _source(data)
         )
-        for note in notes:
-            if note.startswith("warning: "):
-                warnings.warn(note[len("warning: "):], stacklevel=2)
+        _warn_notes(notes)
         return cls(native, notes)
 
     def to_json(self) -> str:
@@ -1158,6 +1231,12 @@ class Design:
     ``repr()`` lists the predicted relative standard errors and the
     sensors chosen.
     """
+
+    def __reduce__(self) -> Any:
+        raise TypeError(
+            "an rfeid.Design holds its model in native memory and cannot be pickled: pass "
+            "design.to_json() (or design.document) instead"
+        )
 
     def __init__(self, native: _rfeid.Design) -> None:
         self._native = native

@@ -125,6 +125,18 @@ impl PyModel {
             .collect()
     }
 
+    /// The sensors (names, SI units) experiment `name` measures, `None`
+    /// when the model has no such experiment.
+    fn experiment_sensors(&self, name: &str) -> Option<(Vec<String>, Vec<&'static str>)> {
+        let m = self
+            .model
+            .for_experiment(self.model.experiment_index(name)?);
+        Some((
+            m.sensors.iter().map(|s| s.name.clone()).collect(),
+            m.sensors.iter().map(|s| s.kind.unit()).collect(),
+        ))
+    }
+
     /// The sensors' names, in the model's order.
     #[getter]
     fn sensor_names(&self) -> Vec<String> {
@@ -161,8 +173,9 @@ impl PyModel {
     /// sensor by sensor; time in s, values in the sensors' SI units.
     /// `noise` is a fraction of each sensor's RMS, `noise_corner` in Hz,
     /// `tolerance` a relative RMS error (1e-13 to 1e-2), `substeps` steps
-    /// per sample.
-    #[pyo3(signature = (set, noise, noise_corner, seed, tolerance, substeps))]
+    /// per sample; `experiment` a campaign's experiment, whose settings,
+    /// sampling, excitations and sensors are simulated (`--experiment`).
+    #[pyo3(signature = (set, noise, noise_corner, seed, tolerance, substeps, experiment=None))]
     #[allow(clippy::too_many_arguments)]
     fn simulate<'py>(
         &self,
@@ -173,9 +186,30 @@ impl PyModel {
         seed: u64,
         tolerance: Option<f64>,
         substeps: Option<usize>,
+        experiment: Option<String>,
     ) -> PyResult<Record<'py>> {
-        let model =
-            set_values::stepped(self.model.clone(), tolerance, substeps).map_err(model_error)?;
+        let base = match &experiment {
+            None => self.model.clone(),
+            Some(name) => {
+                let e = self.model.experiment_index(name).ok_or_else(|| {
+                    let known: Vec<&str> = self
+                        .model
+                        .experiments
+                        .iter()
+                        .map(|x| x.name.as_str())
+                        .collect();
+                    pyo3::exceptions::PyValueError::new_err(format!(
+                        "experiment='{name}': the model has no such [[experiment]] ({})",
+                        match known.is_empty() {
+                            true => "it has none".to_string(),
+                            false => format!("experiments: {}", known.join(", ")),
+                        }
+                    ))
+                })?;
+                self.model.for_experiment(e)
+            }
+        };
+        let model = set_values::stepped(base, tolerance, substeps).map_err(model_error)?;
         let mut params = model.nominal();
         let warnings = set_values::apply_sets(&model, &set, &mut params).map_err(model_error)?;
         let spec = noise.map(|fraction| NoiseSpec {

@@ -9,6 +9,7 @@ import threading
 import time
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import rfeid
@@ -152,3 +153,73 @@ def test_reports_follow_the_command_lines_output_rules(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="notes.txt"):
         d.report(rep)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["kc.toml", "rep"]
+
+
+def test_reading_notes_are_warnings_and_time_must_be_seconds(knee_column):
+    """U1: a note of the reading (a record shifted, a column read by no
+    sensor) is a UserWarning; U9: timedelta or datetime time is refused."""
+    m = rfeid.Model.load(knee_column)
+    df = m.simulate(noise=0.02, seed=1).to_pandas()
+    with pytest.warns(UserWarning, match="taken as starting"):
+        res = rfeid.identify(m, df.assign(time=df.time + 5.0), plan=4)
+    assert any("taken as starting" in n for n in res.notes)
+    with pytest.warns(UserWarning, match="extra"):
+        rfeid.identify(m, df.assign(extra=1.0), plan=4)
+    with pytest.raises(rfeid.DataError, match="total_seconds"):
+        rfeid.identify(m, df.assign(time=pd.to_timedelta(df.time, unit="s")), plan=4)
+    with pytest.raises(rfeid.DataError, match="datetime"):
+        rfeid.identify(m, df.assign(time=pd.Timestamp("2026-01-01") + pd.to_timedelta(df.time, unit="s")), plan=4)
+
+
+def test_pickling_a_model_reads_it_again_and_results_say_what_to_pass(knee_column):
+    """U14: a Model pickles as its file or text; a result or design says
+    to pass its JSON."""
+    import pickle
+
+    m = rfeid.Model.load(knee_column)
+    again = pickle.loads(pickle.dumps(m))
+    assert again.path == m.path and [p.name for p in again.parameters] == [p.name for p in m.parameters]
+    text = rfeid.Model.from_toml(open(knee_column).read(), base_dir=os.path.dirname(knee_column))
+    assert pickle.loads(pickle.dumps(text)).sensors == m.sensors
+    res = rfeid.identify(m, m.simulate(noise=0.02, seed=1).to_pandas(), plan=4)
+    with pytest.raises(TypeError, match="to_json"):
+        pickle.dumps(res)
+    with pytest.raises(TypeError, match="to_json"):
+        pickle.dumps(rfeid.design(m))
+
+
+def test_a_campaign_experiment_is_simulated_by_name():
+    """R3: Model.simulate(experiment=...) is `simulate --experiment`."""
+    camp = rfeid.Model.load(EXAMPLES / "knee-column-campaign" / "model.toml")
+    low, high = camp.simulate(experiment="low"), camp.simulate(experiment="high")
+    assert low.values.shape == high.values.shape and not np.array_equal(low.values, high.values)
+    with pytest.raises(ValueError, match="experiments: low, mid, high"):
+        camp.simulate(experiment="nope")
+
+
+def test_a_cancel_event_stops_a_run_in_another_thread(knee_column):
+    """R5: identify(cancel=event) in a worker thread stops when the event is set."""
+    import threading
+    import time
+
+    m = rfeid.Model.load(knee_column)
+    df = m.simulate(noise=0.02, seed=1).to_pandas()
+    event, out = threading.Event(), {}
+
+    def run():
+        try:
+            rfeid.identify(m, df, plan=200_000, cancel=event)
+        except rfeid.Cancelled as e:
+            out["stopped"] = time.monotonic()
+            out["error"] = e
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    time.sleep(0.5)
+    event.set()
+    set_at = time.monotonic()
+    worker.join(timeout=10)
+    assert not worker.is_alive() and "error" in out
+    assert out["stopped"] - set_at < 1.0
+    with pytest.raises(TypeError, match="threading.Event"):
+        rfeid.identify(m, df, plan=4, cancel=True)

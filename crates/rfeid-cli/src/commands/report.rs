@@ -141,7 +141,14 @@ fn rebuild(
             let reference = reference_of(&model, result);
             Ok((model, measured, Some(reference), demo_title(result)))
         }
-        _ => Err(Failure::input_msg(format!(
+        (Some(m), None) => Err(Failure::input_msg(format!(
+            "{}: names the model {m} but no data file (the data were a table in memory, a \
+             DataFrame say): rebuild the report where the data are, from Python: \
+             rfeid.Identification.load(\"{}\", data=frame).report(\"DIR\")",
+            args.result.display(),
+            args.result.display()
+        ))),
+        (None, None) => Err(Failure::input_msg(format!(
             "{}: names no model and data to rebuild the report from",
             args.result.display()
         ))),
