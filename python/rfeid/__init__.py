@@ -54,6 +54,7 @@ __all__ = [
     "Identification",
     "Frf",
     "Verdict",
+    "Reason",
     "identify",
     "validate",
     "merge",
@@ -379,6 +380,52 @@ class Simulation:
         )
 
 
+class Reason(str):
+    """One reason of a verdict, or one warning of a run: its words (it is a
+    ``str``) with its kind and values, as RESULT.json tags it.
+
+    Attributes:
+        kind: the tag (``"poor_fit"``, ``"not_white"``, ``"at_bound"``,
+            ``"strong_correlation"``, ``"model_error"``, ``"side_minimum"``,
+            ...; see the reference of RESULT.json); ``""`` for words read
+            from a file written before tags.
+        fields: its values (SI), a dict as RESULT.json holds them.
+    """
+
+    kind: str
+    fields: Dict[str, Any]
+
+    def __new__(cls, tagged: Any, words: Optional[str] = None) -> "Reason":
+        if not isinstance(tagged, Mapping):
+            tagged = {"message": str(tagged)}
+        text = words if words is not None else str(tagged.get("message", ""))
+        obj = super().__new__(cls, text)
+        obj.kind = str(tagged.get("kind", ""))
+        obj.fields = {k: v for k, v in tagged.items() if k not in ("kind", "message")}
+        return obj
+
+    @property
+    def message(self) -> str:
+        """Its words, a plain ``str``."""
+        return str.__str__(self)
+
+    @property
+    def sensor(self) -> Optional[str]:
+        """The sensor it is about, if it names one."""
+        return self.fields.get("sensor")
+
+    @property
+    def parameter(self) -> Optional[str]:
+        """The parameter it is about, if it names one."""
+        return self.fields.get("parameter")
+
+    def __repr__(self) -> str:
+        return f"Reason(kind={self.kind!r}, message={self.message!r})"
+
+    def __reduce__(self) -> Any:
+        return (Reason, (dict(self.fields, kind=self.kind, message=self.message),))
+
+
 @dataclass(frozen=True)
 class Verdict:
     """Whether the result can be trusted (SPEC §4), as
@@ -387,8 +434,9 @@ class Verdict:
     Attributes:
         outcome: ``"trustworthy"``, ``"suspect"`` or ``"model error"`` (the
             command line's exit status 0, 3 and 4).
-        reasons: the checks that failed, each in words (a tuple of ``str``;
-            empty when trustworthy).
+        reasons: the checks that failed (a tuple of :class:`Reason`, each a
+            ``str`` in words with ``kind``, ``sensor``, ``parameter`` and
+            ``fields``; empty when trustworthy).
     """
 
     outcome: str
@@ -896,8 +944,18 @@ class Identification:
         reached)."""
         v = self._native.verdict()
         if v is None:
-            return Verdict("suspect", ("no verdict was reached",))
-        return Verdict(v[0], tuple(v[1]))
+            return Verdict("suspect", (Reason({"kind": "no_verdict", "message": "no verdict was reached"}),))
+        tagged = (self.document.get("verdict") or {}).get("reasons", [])
+        if len(tagged) != len(v[1]):
+            tagged = [{}] * len(v[1])
+        return Verdict(v[0], tuple(Reason(t, w) for t, w in zip(tagged, v[1])))
+
+    @property
+    def warnings(self) -> List[Reason]:
+        """What the run noticed that does not by itself make the result
+        suspect (RESULT.json's ``warnings``): a list of :class:`Reason`,
+        each in words with its ``kind`` and values."""
+        return [Reason(w) for w in self.document.get("warnings", [])]
 
     @property
     def experiments(self) -> List[Dict[str, Any]]:

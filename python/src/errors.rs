@@ -3,8 +3,9 @@
 //! cannot be done `IdentificationError` (a `RuntimeError`). Each carries the
 //! library's message, which names the file, the entry and the field.
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::PyErr;
+use rfeid::error_kind::{ErrorKind, Kind};
 use rfeid::identification::campaign::CampaignError;
 use rfeid::identification::options::{keyword_spelling, OptionError, PrepareError};
 use rfeid::identification::pipeline::IdentifyError;
@@ -55,51 +56,42 @@ pub fn option_text(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(keyword_spelling(&e.to_string()))
 }
 
-/// A failed simulation at values the user chose: values the model cannot
-/// take are the model's fault, a diverging run a failed computation.
+/// A library error as the module's exception, by whose fault it is
+/// ([`Kind`]): the model's a `ModelError`, the data's a `DataError`, an
+/// option's a `ValueError` named as the keyword, a failed computation an
+/// `IdentificationError`, a cancelled run `KeyboardInterrupt`. The one
+/// place the module maps a library error to an exception.
+pub fn py_error<E: Kind + std::fmt::Display>(e: E) -> PyErr {
+    match e.kind() {
+        ErrorKind::Model => ModelError::new_err(e.to_string()),
+        ErrorKind::Data => DataError::new_err(e.to_string()),
+        ErrorKind::Option => PyValueError::new_err(keyword_spelling(&e.to_string())),
+        ErrorKind::Failed => IdentificationError::new_err(e.to_string()),
+        ErrorKind::Interrupted => PyKeyboardInterrupt::new_err(e.to_string()),
+    }
+}
+
+/// A failed simulation at values the user chose, with what was being
+/// done ([`py_error`]'s classes).
 pub fn simulation_error(what: &str, e: &SimulationError) -> PyErr {
     let text = format!("{what}: {e}");
-    match e.is_bad_values() {
-        true => ModelError::new_err(text),
-        false => IdentificationError::new_err(text),
+    match e.kind() {
+        ErrorKind::Model => ModelError::new_err(text),
+        _ => IdentificationError::new_err(text),
     }
 }
 
-/// A run that could not be set up.
+/// A run that could not be set up ([`py_error`]).
 pub fn prepare_error(e: PrepareError) -> PyErr {
-    match e {
-        PrepareError::Option(o) => option_error(&o),
-        PrepareError::Identify(e) => identify_error(e),
-        PrepareError::AllConstant { .. } => data_error(e),
-        PrepareError::Steps(s) => simulation_error(
-            "choosing the integrator's steps at the nominal parameter values",
-            &s,
-        ),
-    }
+    py_error(e)
 }
 
-/// An identification that failed: the model's or the settings' fault, or a
-/// computation that could not be done.
+/// An identification that failed ([`py_error`]).
 pub fn identify_error(e: IdentifyError) -> PyErr {
-    match e {
-        IdentifyError::NoParameters => model_error(e),
-        IdentifyError::Plan(_)
-        | IdentifyError::NoStarts
-        | IdentifyError::UnknownProfileParameter { .. } => PyValueError::new_err(e.to_string()),
-        IdentifyError::TooFewObservations { .. } => data_error(e),
-        _ => failed(e),
-    }
+    py_error(e)
 }
 
-/// A campaign that could not be run: an option is named as a keyword, an
-/// experiment's data or its `from` are bad data or a bad model, a failed
-/// simulation as [`simulation_error`] says.
+/// A campaign that could not be run ([`py_error`]).
 pub fn campaign_error(e: CampaignError) -> PyErr {
-    match e {
-        CampaignError::Option(o) => option_error(&o),
-        CampaignError::Experiment { field: "from", .. } => model_error(e),
-        CampaignError::Experiment { .. } | CampaignError::UnknownExperiment { .. } => data_error(e),
-        _ if e.is_bad_input() => ModelError::new_err(e.to_string()),
-        _ => IdentificationError::new_err(e.to_string()),
-    }
+    py_error(e)
 }

@@ -3,7 +3,9 @@
 //! --shard K/N` writes it) and shards merged into the run's result
 //! (`merge`, as `rfeid merge` does). The files are the command line's, so
 //! either side may write and the other merge.
-use super::errors::{data_error, failed, identify_error, model_error, option_error, prepare_error};
+use super::errors::{
+    data_error, failed, identify_error, model_error, option_error, prepare_error, py_error,
+};
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
 use super::run::search_options;
@@ -13,7 +15,7 @@ use pyo3::prelude::*;
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::prepare;
 use rfeid::identification::pipeline::{plan as pipeline_plan, ProfileRequest, Start};
-use rfeid::identification::shard::{check_together, evaluate_share, merge_shards, MergeError};
+use rfeid::identification::shard::{check_together, evaluate_share, merge_shards};
 use rfeid::io::atomic::write_atomically;
 use rfeid::io::digest::input_digests;
 use rfeid::io::model_file::load_model;
@@ -25,14 +27,6 @@ use rfeid::model::set_values;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// A merge refused (bad data) or a run that could not be finished.
-fn merge_error(e: MergeError) -> PyErr {
-    match e {
-        MergeError::Shards(m) => data_error(m),
-        MergeError::Identify(e) => identify_error(e),
-    }
-}
 
 /// The worker threads of a call (`None`: one per core).
 fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
@@ -210,7 +204,7 @@ pub fn merge(
         .map(|p| read_shard(&p).map(|s| (p, s)))
         .collect::<Result<_, _>>()
         .map_err(data_error)?;
-    check_together(&shards).map_err(merge_error)?;
+    check_together(&shards).map_err(py_error)?;
     let (first_path, first) = &shards[0];
     let found = |given: Option<PathBuf>, recorded: &str, what: &str| -> PyResult<PathBuf> {
         let path = given.unwrap_or_else(|| resolve(recorded, first_path));
@@ -254,7 +248,7 @@ pub fn merge(
             let prepared = prepare(&edited, measured.response.clone(), &options, &cancel)
                 .map_err(prepare_error)?;
             let result = merge_shards(prepared.problem, &prepared.settings, &shards, &counters)
-                .map_err(merge_error)?;
+                .map_err(py_error)?;
             Ok::<_, PyErr>((result, measured))
         })
     })??;

@@ -2,7 +2,7 @@
 //! data, as `rfeid validate --json` does) and an identification rebuilt
 //! from a RESULT.json with its model and data (`Identification.load`).
 use super::data::{DataArg, Source};
-use super::errors::{campaign_error, data_error, failed, model_error, option_text};
+use super::errors::{campaign_error, data_error, model_error, py_error};
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
 use pyo3::prelude::*;
@@ -28,19 +28,6 @@ fn model_of(model: &PyModel, result: &IdentificationResult, label: &str) -> PyRe
         .map_or("the model".into(), |p| p.display().to_string());
     validation::check_belongs(&fixed, result, &model_label, label).map_err(model_error)?;
     Ok(fixed)
-}
-
-/// A validation's error: options as keywords, bad data or models as
-/// theirs, a failed simulation as a failed computation.
-fn validation_error(e: ValidationError) -> PyErr {
-    match e {
-        ValidationError::Option(o) => option_text(o),
-        ValidationError::Experiment(c) => campaign_error(c),
-        ValidationError::Data(_) => data_error(e),
-        ValidationError::NotOfModel { .. } => model_error(e),
-        ValidationError::Estimate(_) if e.is_bad_input() => model_error(e),
-        ValidationError::Estimate(_) => failed(e),
-    }
 }
 
 /// Checks the result (RESULT.json's text, `label` naming it) on data:
@@ -82,7 +69,7 @@ pub fn validate(
             let json = serde_json::to_string(&fits).expect("fits serialise");
             Ok::<_, ValidationError>((json, notes))
         })
-        .map_err(validation_error)?;
+        .map_err(py_error)?;
     Ok((json, notes))
 }
 

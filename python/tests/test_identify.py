@@ -302,3 +302,19 @@ def test_shards_from_python_and_the_command_line_merge_either_way(tmp_path, rfei
     with pytest.raises(ValueError, match="shard=\\(3, 3\\)"):
         rfeid.identify(m, str(data), plan=12, shard=(3, 3), output=tmp_path / "x.json")
     assert not (tmp_path / "x.json").exists()
+
+
+def test_verdict_reasons_and_warnings_are_tagged(knee_column):
+    """A reason is its words (a str) with its kind and values, as
+    RESULT.json tags it: here a slideway stiffer than its box allows."""
+    m = rfeid.Model.load(knee_column)
+    with pytest.warns(UserWarning, match="outside its box"):
+        sim = m.simulate(set={"a_n1": "700 daN/um^2"}, noise=0.02, seed=1)
+    res = rfeid.identify(m, sim.to_pandas(), plan=8)
+    doc = res.document["verdict"]["reasons"]
+    assert not res.verdict.trustworthy and doc
+    for reason, tagged in zip(res.verdict.reasons, doc):
+        assert isinstance(reason, str) and reason.kind == tagged["kind"] and reason.message == tagged["message"]
+    at_bound = [r for r in res.verdict.reasons if r.kind == "at_bound"]
+    assert at_bound and at_bound[0].parameter == "a_n1" and at_bound[0].fields["side"] == "upper"
+    assert all(isinstance(w, rfeid.Reason) and w.kind for w in res.warnings)

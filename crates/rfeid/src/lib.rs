@@ -43,6 +43,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod design;
+pub mod error_kind;
 pub mod frf;
 pub mod identification;
 pub mod io;

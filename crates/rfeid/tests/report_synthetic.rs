@@ -182,7 +182,7 @@ fn sizes_that_disagree_are_refused() {
 fn user_text_is_escaped() {
     let model = knee_column();
     let mut result = synthetic_result(&model, 0);
-    result.warnings = vec![rfeid::identification::warning::Warning::Recorded(
+    result.warnings = vec![rfeid::identification::warning::Warning::recorded(
         "<script>alert(1)</script> & more".into(),
     )];
     let d = data(&model, 500);

@@ -14,7 +14,7 @@ use crate::diagnostics::Failure;
 use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
 use crate::run::digest::input_digests;
-use crate::run::failures::identify_failure;
+use crate::run::failures::failure;
 use crate::run::inputs::{load, load_data, stepped};
 use crate::run::report::render;
 use crate::run::search::prepare;
@@ -129,10 +129,8 @@ fn check_outputs(
     outputs.check()
 }
 
-/// A merge refused (bad input) or a run that could not be finished.
+/// A merge refused (bad input) or a run that could not be finished
+/// ([`failure`]).
 fn merge_failure(e: MergeError) -> Failure {
-    match e {
-        MergeError::Shards(m) => Failure::input_msg(m),
-        MergeError::Identify(e) => identify_failure(e),
-    }
+    failure(e)
 }

@@ -8,6 +8,7 @@ use crate::format::table;
 use crate::outputs::Plan;
 use crate::run::belongs::check_belongs;
 use crate::run::digest::changed_input;
+use crate::run::failures::failure;
 use crate::run::inputs::{fixed, load};
 use crate::run::report::{read_result, render_fitted};
 use crate::ui::Ui;
@@ -106,13 +107,9 @@ fn cases(model: &Model, args: &ValidateArgs, ui: &Ui) -> Result<Vec<Case>, Failu
     Ok(cases)
 }
 
-/// A validation's error as a failure: bad input (2) or a failed
-/// computation (1).
+/// A validation's error as a failure ([`failure`]).
 fn validation_failure(e: ValidationError) -> Failure {
-    match e.is_bad_input() {
-        true => Failure::input_msg(e),
-        false => Failure::failed(e),
-    }
+    failure(e)
 }
 
 /// What the data of `case` are called in the report's title.

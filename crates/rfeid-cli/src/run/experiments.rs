@@ -3,6 +3,7 @@
 //! errors as failures, every problem naming the model file, the
 //! experiment and its field.
 use crate::diagnostics::Failure;
+use crate::run::failures::failure;
 use crate::ui::Ui;
 use rfeid::identification::campaign::{
     read_campaign, read_experiment, CampaignData, CampaignError,
@@ -50,13 +51,9 @@ pub fn experiment_data(
     Ok(measured)
 }
 
-/// A campaign's error as a failure: bad input (2), or a failed
-/// computation (1) as [`CampaignError::is_bad_input`] says.
+/// A campaign's error as a failure ([`failure`]).
 pub fn campaign_failure(e: CampaignError) -> Failure {
-    match e.is_bad_input() {
-        true => Failure::input_msg(e),
-        false => Failure::failed(e),
-    }
+    failure(e)
 }
 
 /// The model as experiment `name` sees it; an unknown name is bad input

@@ -1,6 +1,7 @@
 //! Library errors as the CLI's failures: bad input (exit 2) or a failed
 //! computation (exit 1).
 use crate::diagnostics::Failure;
+use rfeid::error_kind::{ErrorKind, Kind};
 use rfeid::identification::pipeline::IdentifyError;
 use rfeid::measurement::simulated::SimulatedError;
 use rfeid::measurement::NoiseError;
@@ -26,23 +27,30 @@ pub fn simulation_failure_of(e: SimulatedError) -> Failure {
 /// [`simulation_failure`]'s choice of exit status for `cause`, with the
 /// message `e`.
 fn simulation_failure_kind(cause: &SimulationError, e: &dyn std::fmt::Display) -> Failure {
-    match cause.is_bad_values() {
+    match cause.kind().is_bad_input() {
         true => Failure::input_msg(e),
         false => Failure::failed(e),
     }
 }
 
-/// An identification error as a failure: problems of the settings or the
-/// model are bad input (2), the rest failed computations (1).
-pub fn identify_failure(e: IdentifyError) -> Failure {
-    match e {
-        IdentifyError::NoParameters
-        | IdentifyError::Plan(_)
-        | IdentifyError::NoStarts
-        | IdentifyError::TooFewObservations { .. }
-        | IdentifyError::UnknownProfileParameter { .. } => Failure::input_msg(e),
+/// A library error as a failure, by whose fault it is ([`Kind`]): bad
+/// input (the model, the data or an option) exits 2, a failed computation
+/// 1, a cancelled run 130. The one place the command line maps a library
+/// error to its exit status.
+pub fn failure<E: Kind + std::fmt::Display>(e: E) -> Failure {
+    match e.kind() {
+        k if k.is_bad_input() => Failure::input_msg(e),
+        ErrorKind::Interrupted => Failure {
+            code: 130,
+            report: miette::miette!("{e}"),
+        },
         _ => Failure::failed(e),
     }
+}
+
+/// An identification error as a failure ([`failure`]).
+pub fn identify_failure(e: IdentifyError) -> Failure {
+    failure(e)
 }
 
 /// A noise error with the sensor named.

@@ -69,11 +69,9 @@ pub fn render_fitted(
         .map_err(render_failure)
 }
 
-/// A report not rendered: a failed simulation is a failed computation (1),
-/// inputs that do not belong together are bad input (2).
+/// A report not rendered ([`super::failures::failure`]): a failed
+/// simulation is a failed computation (1), inputs that do not belong
+/// together are bad input (2).
 fn render_failure(e: RenderError) -> Failure {
-    match e {
-        RenderError::Simulation(_) => Failure::failed(e),
-        RenderError::Parameters(_) | RenderError::Report(_) => Failure::input_msg(e),
-    }
+    super::failures::failure(e)
 }

@@ -1,7 +1,7 @@
 //! The search set up from the command line: the library's
 //! [`SearchOptions`] from the arguments, the run prepared by the library
 //! ([`options::prepare`]), its notes shown, and the search run.
-use super::failures::{identify_failure, simulation_failure};
+use super::failures::{failure, identify_failure};
 use super::limits::start_threads;
 use super::progress::Bars;
 use super::show::search_steps_note;
@@ -124,16 +124,10 @@ fn prepare_from<'m>(
     Ok((p.problem, p.settings, Bars::new(a, ui)))
 }
 
-/// A run that could not be set up as a failure: a problem of the options,
-/// the model or the data is bad input (2); steps that cannot be chosen are
-/// as [`simulation_failure`] says.
+/// A run that could not be set up as a failure ([`failure`]): a problem of
+/// the options, the model or the data is bad input (2); steps that cannot
+/// be chosen are a failed computation unless the values are the model's
+/// fault.
 fn prepare_failure(e: PrepareError) -> Failure {
-    match e {
-        PrepareError::Identify(e) => identify_failure(e),
-        PrepareError::Steps(e) => simulation_failure(
-            "choosing the integrator's steps at the nominal parameter values",
-            e,
-        ),
-        e @ (PrepareError::Option(_) | PrepareError::AllConstant { .. }) => Failure::input_msg(e),
-    }
+    failure(e)
 }

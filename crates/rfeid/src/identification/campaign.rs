@@ -63,22 +63,6 @@ pub enum CampaignError {
     },
 }
 
-impl CampaignError {
-    /// Whether the fault is the input's (the model, the data, the options)
-    /// rather than a computation's: a simulation that diverges at values
-    /// the model can take is a failed computation.
-    pub fn is_bad_input(&self) -> bool {
-        match self {
-            CampaignError::Steps { source, .. } => source.is_bad_values(),
-            CampaignError::Estimate { source, .. } => match source {
-                EstimateError::NotInModel(_) => true,
-                EstimateError::Simulation(s) => s.is_bad_values(),
-            },
-            _ => true,
-        }
-    }
-}
-
 /// Every experiment's model, data and notes, in the model's order.
 #[derive(Debug, Clone)]
 pub struct CampaignData {

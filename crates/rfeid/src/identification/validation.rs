@@ -36,17 +36,6 @@ pub enum ValidationError {
     Estimate(#[from] EstimateError),
 }
 
-impl ValidationError {
-    /// Whether the fault is the input's rather than a computation's.
-    pub fn is_bad_input(&self) -> bool {
-        match self {
-            ValidationError::Experiment(e) => e.is_bad_input(),
-            ValidationError::Estimate(EstimateError::Simulation(s)) => s.is_bad_values(),
-            _ => true,
-        }
-    }
-}
-
 /// One data set to compare with the model at the estimate.
 #[derive(Debug, Clone)]
 pub struct Case {

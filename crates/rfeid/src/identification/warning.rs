@@ -1,13 +1,14 @@
 //! The warnings of an identification, as values: what the run noticed that
 //! does not by itself make the result suspect (the verdict says that), in
-//! the order they arose. RESULT.json lists them in words.
+//! the order they arose. RESULT.json lists each as an object tagged by its
+//! `kind`, with its values and its words in `message`.
 use super::verdict::Reason;
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde_json::{json, Value};
 use std::fmt;
 
 /// One warning of an identification.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(into = "String", from = "String")]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Warning {
     /// An identifiability warning of the Cramér–Rao analysis (eq. 26–29),
     /// worded as the verdict's reason.
@@ -94,8 +95,10 @@ pub enum Warning {
     },
     /// The profiles could not be computed.
     ProfilesSkipped(String),
-    /// A warning read back from a RESULT.json, in its words.
-    Recorded(String),
+    /// A warning read back from a RESULT.json as it was written: its
+    /// tagged object (or, in files written before warnings were tagged,
+    /// its words).
+    Recorded(Value),
 }
 
 impl Warning {
@@ -224,19 +227,92 @@ impl fmt::Display for Warning {
             | Warning::ProfileOpen { .. }
             | Warning::ProfileUnresolved { .. }
             | Warning::ProfilesSkipped(_)) => w.fmt_profile(f),
-            Warning::AboveNyquist(text) | Warning::Recorded(text) => f.write_str(text),
+            Warning::AboveNyquist(text) => f.write_str(text),
+            Warning::Recorded(v) => match v {
+                Value::String(text) => f.write_str(text),
+                v => f.write_str(v["message"].as_str().unwrap_or_default()),
+            },
         }
     }
 }
 
-impl From<Warning> for String {
-    fn from(w: Warning) -> String {
-        w.to_string()
+impl Warning {
+    /// A warning in words alone (a recorded one of an older file).
+    pub fn recorded(text: impl Into<String>) -> Warning {
+        Warning::Recorded(Value::String(text.into()))
+    }
+
+    /// What RESULT.json records: `kind` (snake case), the warning's values,
+    /// and its words in `message`.
+    pub fn tagged(&self) -> Value {
+        let mut v = match self {
+            Warning::Recorded(v) => return v.clone(),
+            Warning::Identifiability(r) => serde_json::to_value(r).unwrap_or(Value::Null),
+            Warning::SideMinimum {
+                first_cost,
+                restarts,
+                found,
+                agreed,
+            } => json!({"kind": "side_minimum", "first_cost": first_cost,
+                "restarts": restarts, "found": found, "agreed": agreed}),
+            Warning::RidgeNotRestarted {
+                first_cost,
+                parameters,
+            } => json!({"kind": "ridge_not_restarted", "first_cost": first_cost,
+                "parameters": parameters}),
+            Warning::StepsTooCoarse {
+                substeps,
+                error,
+                tolerance,
+            } => json!({"kind": "steps_too_coarse", "substeps": substeps, "error": error,
+                "tolerance": tolerance}),
+            Warning::StepsUnchecked(_) => json!({"kind": "steps_unchecked"}),
+            Warning::AboveNyquist(_) => json!({"kind": "above_nyquist"}),
+            Warning::WindowFailed { fraction, .. } => {
+                json!({"kind": "window_failed", "fraction": fraction})
+            }
+            Warning::ProfileDiffers {
+                parameter,
+                profile,
+                wald,
+            } => json!({"kind": "profile_differs", "parameter": parameter,
+                "profile": profile, "wald": wald}),
+            Warning::ProfileOpen { parameter, bounds } => {
+                json!({"kind": "profile_open", "parameter": parameter, "bounds": bounds})
+            }
+            Warning::ProfileUnresolved {
+                parameter,
+                side,
+                last,
+            } => json!({"kind": "profile_unresolved", "parameter": parameter, "side": side,
+                "last": last}),
+            Warning::ProfilesSkipped(_) => json!({"kind": "profiles_skipped"}),
+        };
+        if let Value::Object(map) = &mut v {
+            map.insert("message".into(), Value::String(self.to_string()));
+        }
+        v
     }
 }
 
-impl From<String> for Warning {
-    fn from(text: String) -> Warning {
-        Warning::Recorded(text)
+impl Serialize for Warning {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.tagged().serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Warning {
+    /// A recorded warning: its tagged object, or its words.
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = Value::deserialize(d)?;
+        match &v {
+            Value::String(_) => Ok(Warning::Recorded(v)),
+            Value::Object(m) if m.get("message").is_some_and(Value::is_string) => {
+                Ok(Warning::Recorded(v))
+            }
+            _ => Err(serde::de::Error::custom(
+                "a warning is an object with `kind` and `message` (or, in older files, words)",
+            )),
+        }
     }
 }

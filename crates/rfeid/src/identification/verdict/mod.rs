@@ -86,7 +86,12 @@ use serde::{Deserialize, Serialize};
 pub struct Verdict {
     /// `true` when no reason applies.
     pub trustworthy: bool,
-    /// Every reason the result is suspect.
+    /// Every reason the result is suspect; RESULT.json writes each tagged
+    /// by its `kind`, with its values and its words in `message`.
+    #[serde(
+        serialize_with = "reasons_with_messages",
+        deserialize_with = "reasons_without_messages"
+    )]
     pub reasons: Vec<Reason>,
     /// The checks that decided the verdict: each check that gave a reason
     /// ([`Reason::check`]), once, in the reasons' order; empty when every
@@ -103,6 +108,47 @@ pub struct Verdict {
     pub correlation_threshold: f64,
     /// The thresholds used.
     pub settings: VerdictSettings,
+}
+
+/// The reasons as RESULT.json records them: each one's tagged object with
+/// its words added as `message` (ignored when read back).
+fn reasons_with_messages<S: serde::Serializer>(
+    reasons: &[Reason],
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::ser::{Error, SerializeSeq};
+    let mut seq = s.serialize_seq(Some(reasons.len()))?;
+    for r in reasons {
+        let mut v = serde_json::to_value(r).map_err(S::Error::custom)?;
+        if let serde_json::Value::Object(map) = &mut v {
+            map.insert("message".into(), serde_json::Value::String(r.to_string()));
+        }
+        seq.serialize_element(&v)?;
+    }
+    seq.end()
+}
+
+/// The reasons read back from RESULT.json: each one's words (`message`)
+/// dropped, as its values say them again. A file written before the words
+/// were added kept the `detail` of `no_standard_errors` and
+/// `simulation_failed` under `message`: that is taken as the detail.
+fn reasons_without_messages<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Vec<Reason>, D::Error> {
+    use serde::de::Error;
+    let values = Vec::<serde_json::Value>::deserialize(d)?;
+    values
+        .into_iter()
+        .map(|mut v| {
+            if let serde_json::Value::Object(map) = &mut v {
+                let words = map.remove("message");
+                if let (false, Some(w)) = (map.contains_key("detail"), words) {
+                    map.insert("detail".into(), w);
+                }
+            }
+            serde_json::from_value(v).map_err(D::Error::custom)
+        })
+        .collect()
 }
 
 /// What a verdict comes to.

@@ -199,12 +199,14 @@ pub enum Reason {
     },
     /// The Cramér–Rao analysis could not be done.
     NoStandardErrors {
-        /// Why.
+        /// Why (RESULT.json's `detail`; `message` holds the reason's words).
+        #[serde(rename = "detail")]
         message: String,
     },
     /// The model could not be simulated at the estimate.
     SimulationFailed {
-        /// Why.
+        /// Why (RESULT.json's `detail`).
+        #[serde(rename = "detail")]
         message: String,
     },
 }

@@ -1,0 +1,156 @@
+//! Whose fault an error is: the one classification of the library's
+//! errors that the command line maps to its exit status (bad input 2, a
+//! failed computation 1) and the Python module to its exception
+//! (`ModelError`, `DataError`, `ValueError`, `IdentificationError`,
+//! `KeyboardInterrupt`), each in one place.
+use crate::identification::campaign::CampaignError;
+use crate::identification::options::{OptionError, PrepareError};
+use crate::identification::pipeline::IdentifyError;
+use crate::identification::result::EstimateError;
+use crate::identification::shard::MergeError;
+use crate::identification::validation::ValidationError;
+use crate::io::shard_file::ShardError;
+use crate::measurement::measured::MeasuredError;
+use crate::report::at_estimate::RenderError;
+use crate::simulation::SimulationError;
+
+/// Whose fault an error is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The model file, or a setting of the model (values it cannot take).
+    Model,
+    /// The measured data, or a file that is not what it should be.
+    Data,
+    /// An option out of its range, or options that do not go together.
+    Option,
+    /// A computation that could not be done (a diverging simulation,
+    /// every start failed).
+    Failed,
+    /// The run was cancelled.
+    Interrupted,
+}
+
+impl ErrorKind {
+    /// Whether the input is at fault (the model, the data or an option).
+    pub fn is_bad_input(self) -> bool {
+        matches!(self, ErrorKind::Model | ErrorKind::Data | ErrorKind::Option)
+    }
+}
+
+/// An error that knows whose fault it is.
+pub trait Kind {
+    /// Whose fault the error is.
+    fn kind(&self) -> ErrorKind;
+}
+
+impl Kind for SimulationError {
+    /// Values the model cannot take are the model's fault; divergence, no
+    /// step meeting the tolerance or no equilibrium the computation's.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            SimulationError::Cancelled => ErrorKind::Interrupted,
+            e if e.is_bad_values() => ErrorKind::Model,
+            _ => ErrorKind::Failed,
+        }
+    }
+}
+
+impl Kind for IdentifyError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            IdentifyError::NoParameters => ErrorKind::Model,
+            IdentifyError::Plan(_)
+            | IdentifyError::NoStarts
+            | IdentifyError::UnknownProfileParameter { .. } => ErrorKind::Option,
+            IdentifyError::TooFewObservations { .. } => ErrorKind::Data,
+            IdentifyError::Cancelled => ErrorKind::Interrupted,
+            _ => ErrorKind::Failed,
+        }
+    }
+}
+
+impl Kind for OptionError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Option
+    }
+}
+
+impl Kind for PrepareError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            PrepareError::Option(e) => e.kind(),
+            PrepareError::Identify(e) => e.kind(),
+            PrepareError::AllConstant { .. } => ErrorKind::Data,
+            PrepareError::Steps(e) => e.kind(),
+        }
+    }
+}
+
+impl Kind for MeasuredError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Data
+    }
+}
+
+impl Kind for ShardError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Data
+    }
+}
+
+impl Kind for EstimateError {
+    /// A result of another model is the input's fault.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            EstimateError::NotInModel(_) => ErrorKind::Model,
+            EstimateError::Simulation(e) => e.kind(),
+        }
+    }
+}
+
+impl Kind for CampaignError {
+    /// An experiment's `from` is the model file's; its data the data's.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            CampaignError::Experiment { field: "from", .. } => ErrorKind::Model,
+            CampaignError::Experiment { .. } | CampaignError::UnknownExperiment { .. } => {
+                ErrorKind::Data
+            }
+            CampaignError::Option(e) => e.kind(),
+            CampaignError::Steps { source, .. } => source.kind(),
+            CampaignError::Estimate { source, .. } => source.kind(),
+        }
+    }
+}
+
+impl Kind for ValidationError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            ValidationError::Option(e) => e.kind(),
+            ValidationError::NotOfModel { .. } => ErrorKind::Model,
+            ValidationError::Experiment(e) => e.kind(),
+            ValidationError::Data(e) => e.kind(),
+            ValidationError::Estimate(e) => e.kind(),
+        }
+    }
+}
+
+impl Kind for MergeError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            MergeError::Shards(_) => ErrorKind::Data,
+            MergeError::Identify(e) => e.kind(),
+        }
+    }
+}
+
+impl Kind for RenderError {
+    /// A failed simulation is a failed computation; inputs that do not
+    /// belong together the input's fault.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            RenderError::Simulation(_) => ErrorKind::Failed,
+            RenderError::Parameters(_) | RenderError::Report(_) => ErrorKind::Model,
+        }
+    }
+}
