@@ -45,6 +45,7 @@ import numpy as np
 
 from . import _rfeid
 from ._rfeid import DataError, IdentificationError, ModelError, __version__
+from ._signals import Signals, report_figures as _report_figures, signals_of as _signals_of
 
 __all__ = [
     "Model",
@@ -53,6 +54,7 @@ __all__ = [
     "Simulation",
     "Identification",
     "Frf",
+    "Signals",
     "Verdict",
     "Reason",
     "identify",
@@ -512,12 +514,26 @@ def _table(data: Any, label: Optional[str] = None) -> Tuple[str, bytes, List[str
 
 
 class _Bar:
-    """A progress line on standard error (a notebook's too)."""
+    """A progress line on standard error (a notebook's too); the plan's bar
+    is a ``tqdm.auto`` bar (a widget in Jupyter) where tqdm is installed."""
 
     def __init__(self) -> None:
         self.last = ""
+        self.plan: Any = None
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            tqdm = None
+        self.tqdm = tqdm
 
     def __call__(self, done: int, total: int, search: int, searches: int, it: int, cost: float) -> None:
+        if search == 0 and total and self.tqdm is not None:
+            if self.plan is None:
+                self.plan = self.tqdm(total=total, desc="LP_τ plan", unit="point")
+            self.plan.update(max(done - self.plan.n, 0))
+            return
+        if search and self.plan is not None:
+            self.plan.close()
         if search == 0 and total:
             filled = int(30 * done / total)
             line = f"LP_τ plan [{'=' * filled}{' ' * (30 - filled)}] {done}/{total} points"
@@ -531,6 +547,8 @@ class _Bar:
             self.last = line
 
     def close(self) -> None:
+        if self.plan is not None:
+            self.plan.close()
         if self.last:
             sys.stderr.write("\n")
             sys.stderr.flush()
@@ -1088,6 +1106,72 @@ class Identification:
         text, svg = self._native.frf(fmin, fmax, points, spacing, segment, measured)
         return Frf(json.loads(text), svg)
 
+    # Signals and figures at the estimate (rfeid/_signals.py, rfeid/plot.py).
+
+    def signals(self, experiment: Optional[str] = None) -> Signals:
+        """The measured record and the model simulated at the estimate (as
+        the report simulates it), a :class:`Signals`: ``time`` (s),
+        ``measured``, ``fitted`` and ``residual`` (n × sensors, each
+        sensor's SI unit), ``from_`` (the first time fitted, s);
+        ``to_pandas()`` makes a DataFrame of them. For a campaign: the
+        fitted experiment named ``experiment`` (default: the first
+        fitted one; validation experiments are not included). Raises
+        ``KeyError`` for an experiment that was not fitted."""
+        records = self._all_signals()
+        if experiment is None:
+            return records[0]
+        for r in records:
+            if r.experiment == experiment:
+                return r
+        raise KeyError(f"no fitted experiment {experiment!r} (fitted: {[r.experiment for r in records]})")
+
+    def _all_signals(self) -> List[Signals]:
+        """Every fitted record at the estimate, simulated once and kept."""
+        if getattr(self, "_signals", None) is None:
+            self._signals = _signals_of(self._native)
+        return self._signals
+
+    @property
+    def figures(self) -> Dict[str, Any]:
+        """The report's figures without matplotlib: a dict file name
+        (``"fit.svg"``, ...) -> an ``IPython.display.SVG`` (Jupyter shows
+        it), or the SVG text (a ``str``) where IPython is not installed.
+        Rendered as :meth:`report` renders them, nothing written."""
+        return _report_figures(self._native)
+
+    def plot_fit(self, *, experiment: Optional[str] = None, figsize: Optional[Tuple[float, float]] = None) -> Any:
+        """Measured against fitted per sensor (SI units, time in s), a
+        matplotlib ``Figure``: see :func:`rfeid.plot.plot_fit`. Needs
+        matplotlib (``pip install "rfeid[plot]"``)."""
+        from .plot import plot_fit
+
+        return plot_fit(self, experiment=experiment, figsize=figsize)
+
+    def plot_residual_spectra(
+        self,
+        *,
+        segment: Optional[int] = None,
+        experiment: Optional[str] = None,
+        measured: bool = True,
+        figsize: Optional[Tuple[float, float]] = None,
+    ) -> Any:
+        """The residuals' PSD per sensor over the fitted part, (SI unit)^2/Hz
+        against Hz on log axes (Welch, Hann, ``segment`` samples), a
+        matplotlib ``Figure``: see :func:`rfeid.plot.plot_residual_spectra`.
+        Needs matplotlib (``pip install "rfeid[plot]"``)."""
+        from .plot import plot_residual_spectra
+
+        return plot_residual_spectra(self, segment=segment, experiment=experiment, measured=measured, figsize=figsize)
+
+    def plot_correlation(self, *, annotate: Optional[bool] = None, figsize: Optional[Tuple[float, float]] = None) -> Any:
+        """The correlation matrix (dimensionless, colours fixed to [-1, 1],
+        values written in up to 20 parameters), a matplotlib ``Figure``:
+        see :func:`rfeid.plot.plot_correlation`. Needs matplotlib (``pip
+        install "rfeid[plot]"``)."""
+        from .plot import plot_correlation
+
+        return plot_correlation(self, annotate=annotate, figsize=figsize)
+
     def _rows(self) -> List[Tuple[str, str, str, str, str]]:
         rows = []
         for p in self.document["parameters"]:
@@ -1345,6 +1429,15 @@ class Design:
         ``ValueError``, a failed write raises ``OSError``. Returns
         report.html's path, a ``str``."""
         return os.fspath(self._native.report(os.fspath(directory)))
+
+    def plot(self, *, figsize: Optional[Tuple[float, float]] = None) -> Any:
+        """Predicted relative standard errors per parameter (%, log axis),
+        placed sensors against with the chosen ones, a matplotlib
+        ``Figure``: see :func:`rfeid.plot.plot_design`. Needs matplotlib
+        (``pip install "rfeid[plot]"``)."""
+        from .plot import plot_design
+
+        return plot_design(self, figsize=figsize)
 
     def __repr__(self) -> str:
         rel = {p["name"]: p.get("relative_std_error") for p in self.document["parameters"]}

@@ -102,6 +102,15 @@ class Identification:
     ) -> Tuple[str, Optional[str]]:
         """FRFs of the linearised model at the estimate, with the 95 % band
         and the measured H1 and coherence: (JSON text, SVG text or None)."""
+    def report_files(self) -> List[Tuple[str, str]]:
+        """The report's files as (name, text), report.html and its SVG
+        figures, as ``report`` writes them (nothing written)."""
+    def signals(self) -> List[Tuple[str, List[str], List[str], float, float, bytes, bytes, bytes]]:
+        """The fitted records with the model simulated at the estimate (as
+        the report does), one record or each fitted experiment of a
+        campaign: (experiment or ``""``, sensor names, SI units, sample
+        rate Hz, first time fitted s, time s, measured, fitted), the arrays
+        as little-endian float64 bytes, the signals sensor by sensor."""
 
 def identify(
     model: Model,

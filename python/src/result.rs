@@ -1,14 +1,17 @@
 //! The result of `identify`: RESULT.json's document, and the report.
+use super::data::f64_bytes;
 use super::errors::{failed, model_error};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
 use rfeid::identification::campaign::CampaignData;
+use rfeid::identification::result::EstimateError;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::Outcome;
 use rfeid::io::report_dir::{write_report as write_report_dir, ReportDirError};
 use rfeid::model::Model;
 use rfeid::report::at_estimate::{render, render_campaign, RenderError};
-use rfeid::simulation::Response;
+use rfeid::simulation::{steps::integrator, Response, Simulator, Workspace};
 use std::path::{Path, PathBuf};
 
 /// An identification's result with what its report needs.
@@ -32,7 +35,140 @@ pub enum Fitted {
     Campaign(CampaignData),
 }
 
+/// One fitted record at the estimate for Python: (experiment, sensor
+/// names, their SI units, the sample rate in Hz, the first time fitted in
+/// s, time in s, measured, fitted), the arrays as little-endian f64 bytes,
+/// the signals sensor by sensor.
+type Signals<'py> = (
+    String,
+    Vec<String>,
+    Vec<&'static str>,
+    f64,
+    f64,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+);
+
+/// A fitted record with the model's response at the estimate: (experiment,
+/// sensors, units, sample rate, from, time, measured, fitted), the signals
+/// sensor by sensor on the samples both have.
+type AtEstimate = (
+    String,
+    Vec<String>,
+    Vec<&'static str>,
+    f64,
+    f64,
+    Vec<f64>,
+    Vec<f64>,
+    Vec<f64>,
+);
+
+/// `model`'s record at the estimate as `AtEstimate`: `measured` and
+/// `fitted` cut to the samples both have.
+fn at_estimate_record(
+    experiment: &str,
+    model: &Model,
+    from: f64,
+    measured: &Response,
+    fitted: &Response,
+) -> AtEstimate {
+    let n = measured.n_samples.min(fitted.n_samples);
+    let cut = |r: &Response| -> Vec<f64> {
+        (0..r.n_sensors)
+            .flat_map(|c| r.sensor(c)[..n].iter().copied())
+            .collect()
+    };
+    (
+        experiment.to_string(),
+        model.sensors.iter().map(|s| s.name.clone()).collect(),
+        model.sensors.iter().map(|s| s.kind.unit()).collect(),
+        model.sampling.sample_rate,
+        from,
+        (0..n).map(|k| model.sampling.time(k)).collect(),
+        cut(measured),
+        cut(fitted),
+    )
+}
+
 impl PyIdentification {
+    /// The fitted records with the model simulated at the estimate as the
+    /// report simulates it ([`render`], [`render_campaign`]): one record
+    /// with the steps the identification ended with, or each fitted
+    /// experiment of a campaign on its own model, with steps chosen there.
+    fn at_estimate(&self) -> Result<Vec<AtEstimate>, RenderError> {
+        match &self.fitted {
+            Fitted::Single(measured) => {
+                let params = self
+                    .result
+                    .parameter_values(&self.model, "")
+                    .map_err(RenderError::Parameters)?;
+                let sim = match &self.result.simulation {
+                    Some(steps) => {
+                        Simulator::with_integrator(&self.model, integrator(steps.substeps))
+                    }
+                    None => Simulator::new(&self.model),
+                };
+                let mut fitted = sim.response_buffer();
+                sim.run(&params, &mut Workspace::default(), &mut fitted)?;
+                let from = self.result.from;
+                Ok(vec![at_estimate_record(
+                    "",
+                    &self.model,
+                    from,
+                    measured,
+                    &fitted,
+                )])
+            }
+            Fitted::Campaign(data) => self
+                .model
+                .fitted_experiments()
+                .into_iter()
+                .map(|e| {
+                    let name = self.model.experiments[e].name.as_str();
+                    let (fitted, _) = self
+                        .result
+                        .simulate_at_estimate(&data.models[e], name)
+                        .map_err(|e| match e {
+                            EstimateError::NotInModel(m) => RenderError::Parameters(m),
+                            EstimateError::Simulation(s) => RenderError::Simulation(s),
+                        })?;
+                    let from = self
+                        .result
+                        .experiments
+                        .iter()
+                        .find(|x| x.name == name)
+                        .map_or(self.model.experiments[e].from, |x| x.from);
+                    let measured = &data.measured[e];
+                    Ok(at_estimate_record(
+                        name,
+                        &data.models[e],
+                        from,
+                        measured,
+                        &fitted,
+                    ))
+                })
+                .collect(),
+        }
+    }
+
+    /// The report's files (name, text), rendered as `rfeid identify
+    /// --report` renders them.
+    fn render_files(&self) -> Result<Vec<(String, String)>, RenderError> {
+        match &self.fitted {
+            Fitted::Single(measured) => {
+                render(&self.model, &self.result, "", measured, None, &self.title)
+            }
+            Fitted::Campaign(data) => render_campaign(
+                &self.model,
+                &data.models,
+                &self.result,
+                &data.measured,
+                &self.title,
+            ),
+        }
+    }
+
     /// The model, experiment name and measured signals an FRF compares
     /// with: the record, or a campaign's first fitted experiment.
     fn frf_data(&self) -> (&Model, &str, &Response) {
@@ -76,23 +212,7 @@ impl PyIdentification {
     /// by the rules of `rfeid identify --report DIR` ([`write_report`]);
     /// returns report.html's path.
     fn report(&self, py: Python<'_>, dir: PathBuf) -> PyResult<PathBuf> {
-        let files = py
-            .detach(|| match &self.fitted {
-                Fitted::Single(measured) => {
-                    render(&self.model, &self.result, "", measured, None, &self.title)
-                }
-                Fitted::Campaign(data) => render_campaign(
-                    &self.model,
-                    &data.models,
-                    &self.result,
-                    &data.measured,
-                    &self.title,
-                ),
-            })
-            .map_err(|e| match e {
-                RenderError::Simulation(_) => failed(e),
-                _ => model_error(e),
-            })?;
+        let files = self.report_files(py)?;
         let source = &self.result.source;
         let inputs: Vec<PathBuf> = [&source.model, &source.data]
             .into_iter()
@@ -102,6 +222,30 @@ impl PyIdentification {
             .chain(self.model.experiments.iter().map(|x| x.data.clone()))
             .collect();
         write_report(&dir, &files, &inputs)
+    }
+
+    /// The report's files as (name, text), report.html and its SVG
+    /// figures, rendered as [`PyIdentification::report`] writes them but
+    /// not written.
+    fn report_files(&self, py: Python<'_>) -> PyResult<Vec<(String, String)>> {
+        py.detach(|| self.render_files()).map_err(render_error)
+    }
+
+    /// The fitted records with the model simulated at the estimate, as the
+    /// report shows them: one record, or each fitted experiment of a
+    /// campaign in the model's order. Each is (experiment (`""` for one
+    /// record), sensor names, their SI units, the sample rate in Hz, the
+    /// first time fitted in s, time in s, measured, fitted), the arrays as
+    /// little-endian f64 bytes, the signals sensor by sensor (SI).
+    fn signals<'py>(&self, py: Python<'py>) -> PyResult<Vec<Signals<'py>>> {
+        let records = py.detach(|| self.at_estimate()).map_err(render_error)?;
+        let bytes = |v: &[f64]| PyBytes::new(py, &f64_bytes(v));
+        Ok(records
+            .into_iter()
+            .map(|(e, names, units, rate, from, t, y, g)| {
+                (e, names, units, rate, from, bytes(&t), bytes(&y), bytes(&g))
+            })
+            .collect())
     }
 
     /// FRFs of the model linearised at rest (or at its static equilibrium
@@ -174,6 +318,16 @@ impl PyIdentification {
             })?;
         let json = serde_json::to_string(&study).map_err(failed)?;
         Ok((json, rfeid::report::frf::study_svg(&study)))
+    }
+}
+
+/// A report or simulation at the estimate that failed: a simulation's
+/// failure an `IdentificationError`, a result that does not fit the model
+/// a `ModelError`.
+fn render_error(e: RenderError) -> PyErr {
+    match e {
+        RenderError::Simulation(_) => failed(e),
+        _ => model_error(e),
     }
 }
 
