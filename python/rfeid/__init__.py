@@ -70,6 +70,8 @@ __all__ = [
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
+# The search options' defaults, the library's (and so the command line's).
+_DEFAULTS: Dict[str, Any] = dict(_rfeid.search_defaults())
 SetValues = Optional[Mapping[str, Union[float, int, str]]]
 
 
@@ -632,13 +634,13 @@ def identify(
     data: Any = None,
     *,
     set: SetValues = None,
-    plan: int = 100,
-    starts: int = 1,
-    method: str = "lm",
+    plan: int = _DEFAULTS["plan"],
+    starts: int = _DEFAULTS["starts"],
+    method: str = _DEFAULTS["method"],
     weights: Optional[str] = None,
-    noise_model: str = "ar",
+    noise_model: str = _DEFAULTS["noise_model"],
     window: Optional[float] = None,
-    from_: float = 0.0,
+    from_: float = _DEFAULTS["from"],
     threads: Optional[int] = None,
     start: str = "plan",
     tolerance: Optional[float] = None,
@@ -646,7 +648,7 @@ def identify(
     jacobian_memory: Optional[int] = None,
     progress: bool = False,
     profiles: Union[None, bool, Sequence[str]] = None,
-    profile_points: int = 20,
+    profile_points: int = _DEFAULTS["profile_points"],
     shard: Optional[Tuple[int, int]] = None,
     output: Optional[PathLike] = None,
     cancel: Any = None,
@@ -813,7 +815,7 @@ def merge(
     threads: Optional[int] = None,
     progress: bool = False,
     profiles: Union[None, bool, Sequence[str]] = None,
-    profile_points: int = 20,
+    profile_points: int = _DEFAULTS["profile_points"],
     cancel: Any = None,
 ) -> "Identification":
     """Merges the shard files of one run (``identify(shard=...)`` or

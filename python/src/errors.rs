@@ -47,7 +47,11 @@ pub fn failed(e: impl std::fmt::Display) -> PyErr {
 
 /// An option out of range, named as a keyword argument (`plan=0: …`).
 pub fn option_error(e: &OptionError) -> PyErr {
-    PyValueError::new_err(e.keyword_text())
+    let name = match e.option {
+        "from" => "from_",
+        other => other,
+    };
+    PyValueError::new_err(e.spelt(name, "="))
 }
 
 /// A keyword's value refused, with the library's message spelt with
@@ -62,6 +66,9 @@ pub fn option_text(e: impl std::fmt::Display) -> PyErr {
 /// `IdentificationError`, a cancelled run `KeyboardInterrupt`. The one
 /// place the module maps a library error to an exception.
 pub fn py_error<E: Kind + std::fmt::Display>(e: E) -> PyErr {
+    if let Some(o) = e.option_error() {
+        return option_error(o);
+    }
     match e.kind() {
         ErrorKind::Model => ModelError::new_err(e.to_string()),
         ErrorKind::Data => DataError::new_err(e.to_string()),

@@ -34,6 +34,7 @@ fn _rfeid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<result::PyIdentification>()?;
     m.add_class::<design::PyDesign>()?;
     m.add_function(wrap_pyfunction!(run::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(run::search_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;
     m.add_function(wrap_pyfunction!(validate::validate, m)?)?;
     m.add_function(wrap_pyfunction!(shards::identify_shard, m)?)?;

@@ -47,7 +47,7 @@ pub(crate) fn search_options(
         weights: weights
             .map(|w| choice("weights", w, &WEIGHTS))
             .transpose()?,
-        noise_model: choice("noise-model", noise_model, &NOISE_MODELS)?,
+        noise_model: choice("noise_model", noise_model, &NOISE_MODELS)?,
         threads,
         from: from_,
         window,
@@ -306,4 +306,21 @@ pub fn identify(
         title,
     };
     Ok((identification, notes))
+}
+
+/// Each search option's default, by the option's name (the library's
+/// [`rfeid::identification::options::defaults`]): the package's keyword
+/// defaults are read from here, so they are the command line's.
+#[pyfunction]
+pub fn search_defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    use rfeid::identification::options::{defaults, DefaultValue};
+    let d = pyo3::types::PyDict::new(py);
+    for (name, value) in defaults() {
+        match value {
+            DefaultValue::Count(n) => d.set_item(name, n)?,
+            DefaultValue::Seconds(x) => d.set_item(name, x)?,
+            DefaultValue::Name(text) => d.set_item(name, text)?,
+        }
+    }
+    Ok(d)
 }

@@ -14,6 +14,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::prepare;
+use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::pipeline::{plan as pipeline_plan, ProfileRequest, Start};
 use rfeid::identification::shard::{check_together, evaluate_share, merge_shards};
 use rfeid::io::atomic::write_atomically;
@@ -187,7 +188,7 @@ pub fn identify_shard(
 /// local searches, bounds, verdict and `profiles` with the merging
 /// machine's `threads`. Returns the result and the reading's notes.
 #[pyfunction]
-#[pyo3(signature = (shards, model, data, threads, progress, profiles=None, profile_points=20))]
+#[pyo3(signature = (shards, model, data, threads, progress, profiles=None, profile_points=DEFAULT_POINTS))]
 #[allow(clippy::too_many_arguments)]
 pub fn merge(
     py: Python<'_>,

@@ -3,6 +3,7 @@ for bit),
 errors, the report, and Ctrl-C."""
 import json
 import os
+import re
 
 import numpy as np
 import pandas as pd
@@ -120,7 +121,7 @@ def test_bad_options_are_value_errors(tmp_path, rfeid_cli, knee_column):
         ({"window": 1.5}, "window=1.5"),
         ({"method": "newton"}, "method='newton': must be one of lm, bfgs"),
         ({"from_": 1e9}, "from_=1000000000"),
-        ({"start": "values", "starts": 2}, "starts=2 with start values"),
+        ({"start": "values", "starts": 2}, "starts=2 with a start from the values"),
     ]:
         with pytest.raises(ValueError) as e:
             rfeid.identify(m, data, **kwargs)
@@ -318,3 +319,30 @@ def test_verdict_reasons_and_warnings_are_tagged(knee_column):
     at_bound = [r for r in res.verdict.reasons if r.kind == "at_bound"]
     assert at_bound and at_bound[0].parameter == "a_n1" and at_bound[0].fields["side"] == "upper"
     assert all(isinstance(w, rfeid.Reason) and w.kind for w in res.warnings)
+
+
+def test_option_defaults_are_the_librarys_in_one_place(rfeid_cli):
+    """Each option's default is defined once, in the library
+    (identification::options::defaults): the keyword defaults are read
+    from it, and the command line's --help shows the same."""
+    import inspect
+
+    defaults = rfeid._rfeid.search_defaults()
+    sig = inspect.signature(rfeid.identify).parameters
+    for keyword, name in [("plan", "plan"), ("starts", "starts"), ("method", "method"),
+                          ("noise_model", "noise_model"), ("from_", "from"), ("profile_points", "profile_points")]:
+        assert sig[keyword].default == defaults[name], keyword
+    help_text = rfeid_cli("identify", "--help").stdout
+    for flag, name in [("--plan", "plan"), ("--starts", "starts"), ("--method", "method"),
+                       ("--noise-model", "noise_model"), ("--from", "from")]:
+        value = defaults[name]
+        expected = f"{value:g}" if isinstance(value, float) else str(value)
+        shown = re.search(r"^ +" + re.escape(flag) + r" [^\[]*\[default: ([^\]]+)\]", help_text, re.M)
+        assert shown and shown.group(1) == expected, (flag, shown and shown.group(1), expected)
+    # The package writes no default of its own: each is _DEFAULTS[...].
+    source = inspect.getsource(rfeid.identify)
+    assert "plan: int = _DEFAULTS" in source and "= 100" not in source
+    # An option's error names the option as a keyword here, as a flag there.
+    with pytest.raises(ValueError, match=r"^profile_points=1: must be 2 to 1000"):
+        rfeid.identify(rfeid.Model.load(EXAMPLES / "knee-column" / "model.toml"), {"time": [0.0]}, profiles=True,
+                       profile_points=1)

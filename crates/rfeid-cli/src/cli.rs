@@ -1,5 +1,9 @@
 //! Command-line arguments.
 use clap::{Args, Parser, Subcommand};
+use rfeid::identification::options::{
+    DEFAULT_FROM, DEFAULT_METHOD, DEFAULT_NOISE_MODEL, DEFAULT_PLAN, DEFAULT_STARTS,
+};
+use rfeid::identification::pipeline::{Method, NoiseModel};
 use std::path::PathBuf;
 
 /// Identify stiffness and damping of nonlinear machine-tool joints from
@@ -278,25 +282,25 @@ pub struct StepArgs {
 #[derive(Debug, Args)]
 pub struct SearchArgs {
     /// Points of the LP_τ (Sobol) plan over the parameter box (1 to 1 000 000).
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = DEFAULT_PLAN)]
     pub plan: usize,
     /// Run the local search from the best K plan points and keep the best result (K ≤ 1000 and ≤ the plan).
-    #[arg(long, default_value_t = 1, value_name = "K")]
+    #[arg(long, default_value_t = DEFAULT_STARTS, value_name = "K")]
     pub starts: usize,
     /// Local search: Levenberg–Marquardt with exact sensitivities, or the paper's BFGS.
-    #[arg(long, value_enum, default_value_t = MethodArg::Lm)]
+    #[arg(long, value_enum, default_value_t = MethodArg::of(DEFAULT_METHOD))]
     pub method: MethodArg,
     /// Sensor weights: equal (the paper's), or estimated from each sensor's residual variance. Default estimated for `identify` (valid standard errors when the sensors' noise levels differ), equal for `demo`.
     #[arg(long, value_enum)]
     pub weights: Option<WeightsArg>,
     /// How the noise is modelled with estimated weights: an autoregressive model per sensor, its order chosen from the residuals (coloured noise, as anti-alias filters leave it, gets honest standard errors; white noise gets order 0), or white noise (the paper's output error, eq. 12–16).
-    #[arg(long, value_enum, default_value_t = NoiseModelArg::Ar)]
+    #[arg(long, value_enum, default_value_t = NoiseModelArg::of(DEFAULT_NOISE_MODEL))]
     pub noise_model: NoiseModelArg,
     /// Worker threads (default: all cores; at most 1024). Results do not depend on it.
     #[arg(long)]
     pub threads: Option<usize>,
     /// Ignore the record before this time, s (the transient from an unknown initial state).
-    #[arg(long, value_name = "SECONDS", default_value_t = 0.0)]
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_FROM)]
     pub from: f64,
     /// Print the wall time of each phase.
     #[arg(long)]
@@ -333,6 +337,26 @@ pub enum MethodArg {
     Lm,
     /// BFGS with finite-difference gradients (eq. 20–25).
     Bfgs,
+}
+
+impl MethodArg {
+    /// The argument of the library's method.
+    pub const fn of(m: Method) -> Self {
+        match m {
+            Method::Lm => MethodArg::Lm,
+            Method::Bfgs => MethodArg::Bfgs,
+        }
+    }
+}
+
+impl NoiseModelArg {
+    /// The argument of the library's noise model.
+    pub const fn of(m: NoiseModel) -> Self {
+        match m {
+            NoiseModel::White => NoiseModelArg::White,
+            NoiseModel::Autoregressive { .. } => NoiseModelArg::Ar,
+        }
+    }
 }
 
 /// `--noise-model`.

@@ -149,7 +149,7 @@ fn misuse_exits_2_without_output() {
         (&["--set", "c"][..], "--set 'c': expected NAME=VALUE"),
         (
             &["--start", "values", "--starts", "2"][..],
-            "--starts 2 with --start values",
+            "--starts 2 with a start from the values",
         ),
         (
             &["--set", "c=40", "--shard", "0/2"][..],

@@ -41,6 +41,12 @@ impl ErrorKind {
 pub trait Kind {
     /// Whose fault the error is.
     fn kind(&self) -> ErrorKind;
+
+    /// The option at fault, when an option is, for the front end to name
+    /// as it spells it ([`OptionError::spelt`]).
+    fn option_error(&self) -> Option<&OptionError> {
+        None
+    }
 }
 
 impl Kind for SimulationError {
@@ -73,6 +79,9 @@ impl Kind for OptionError {
     fn kind(&self) -> ErrorKind {
         ErrorKind::Option
     }
+    fn option_error(&self) -> Option<&OptionError> {
+        Some(self)
+    }
 }
 
 impl Kind for PrepareError {
@@ -82,6 +91,12 @@ impl Kind for PrepareError {
             PrepareError::Identify(e) => e.kind(),
             PrepareError::AllConstant { .. } => ErrorKind::Data,
             PrepareError::Steps(e) => e.kind(),
+        }
+    }
+    fn option_error(&self) -> Option<&OptionError> {
+        match self {
+            PrepareError::Option(e) => Some(e),
+            _ => None,
         }
     }
 }
@@ -121,6 +136,12 @@ impl Kind for CampaignError {
             CampaignError::Estimate { source, .. } => source.kind(),
         }
     }
+    fn option_error(&self) -> Option<&OptionError> {
+        match self {
+            CampaignError::Option(e) => Some(e),
+            _ => None,
+        }
+    }
 }
 
 impl Kind for ValidationError {
@@ -131,6 +152,12 @@ impl Kind for ValidationError {
             ValidationError::Experiment(e) => e.kind(),
             ValidationError::Data(e) => e.kind(),
             ValidationError::Estimate(e) => e.kind(),
+        }
+    }
+    fn option_error(&self) -> Option<&OptionError> {
+        match self {
+            ValidationError::Option(e) => Some(e),
+            _ => None,
         }
     }
 }

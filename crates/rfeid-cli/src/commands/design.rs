@@ -29,7 +29,7 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     if let Some(dir) = &args.report {
         plan.report("--report", dir);
     }
-    check_threads(args.threads).map_err(Failure::input_msg)?;
+    check_threads(args.threads).map_err(crate::run::failures::failure)?;
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
     let label = args.model.display().to_string();

@@ -2,6 +2,7 @@
 //! computation (exit 1).
 use crate::diagnostics::Failure;
 use rfeid::error_kind::{ErrorKind, Kind};
+use rfeid::identification::options::OptionError;
 use rfeid::identification::pipeline::IdentifyError;
 use rfeid::measurement::simulated::SimulatedError;
 use rfeid::measurement::NoiseError;
@@ -38,6 +39,9 @@ fn simulation_failure_kind(cause: &SimulationError, e: &dyn std::fmt::Display) -
 /// 1, a cancelled run 130. The one place the command line maps a library
 /// error to its exit status.
 pub fn failure<E: Kind + std::fmt::Display>(e: E) -> Failure {
+    if let Some(o) = e.option_error() {
+        return Failure::input_msg(option_text(o));
+    }
     match e.kind() {
         k if k.is_bad_input() => Failure::input_msg(e),
         ErrorKind::Interrupted => Failure {
@@ -46,6 +50,11 @@ pub fn failure<E: Kind + std::fmt::Display>(e: E) -> Failure {
         },
         _ => Failure::failed(e),
     }
+}
+
+/// An option's error as the command line spells it: `--plan 0: …`.
+pub fn option_text(e: &OptionError) -> String {
+    e.spelt(&format!("--{}", e.option.replace('_', "-")), " ")
 }
 
 /// An identification error as a failure ([`failure`]).

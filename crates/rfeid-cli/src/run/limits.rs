@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 /// Checks the search's options against their limits before anything is
 /// computed.
 pub fn check_limits(o: &SearchOptions) -> Result<(), Failure> {
-    o.check().map_err(Failure::input_msg)
+    o.check().map_err(super::failures::failure)
 }
 
 /// Starts the worker threads (`threads`, or one per core); a pool that

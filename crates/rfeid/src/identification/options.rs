@@ -22,6 +22,25 @@ pub const MAX_STARTS: usize = 1000;
 /// Most worker threads `threads` may ask for.
 pub const MAX_THREADS: usize = 1024;
 
+/// `plan` when not given: points of the LP_τ plan (eq. 18–19).
+pub const DEFAULT_PLAN: usize = 100;
+/// `starts` when not given: local searches from the best plan points.
+pub const DEFAULT_STARTS: usize = 1;
+/// `method` when not given: Levenberg–Marquardt.
+pub const DEFAULT_METHOD: Method = Method::Lm;
+/// `noise_model` when not given: autoregressive (`ar`).
+pub const DEFAULT_NOISE_MODEL: NoiseModel = NOISE_MODELS[0].1;
+/// `from` when not given, s.
+pub const DEFAULT_FROM: f64 = 0.0;
+/// `start` when not given: from the plan.
+pub const DEFAULT_START: Start = Start::Plan;
+/// `jacobian_memory` when not given, MiB
+/// ([`crate::identification::output_error::DEFAULT_JACOBIAN_MEMORY`]).
+pub const DEFAULT_JACOBIAN_MIB: usize =
+    crate::identification::output_error::DEFAULT_JACOBIAN_MEMORY >> 20;
+/// `profile_points` when not given.
+pub const DEFAULT_PROFILE_POINTS: usize = crate::identification::profile::DEFAULT_POINTS;
+
 /// `weights` of `identify` when not given: each sensor weighted by its
 /// noise level, estimated from its residuals. With equal weights and sensors
 /// whose noise differs, eq. 26's single s² misstates the standard errors
@@ -88,9 +107,10 @@ pub fn name_of<T: PartialEq>(value: &T, choices: &[(&'static str, T)]) -> &'stat
 /// The options of one identification, named as on the command line.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SearchOptions {
-    /// Points of the LP_τ plan (eq. 18–19), 1 to [`MAX_PLAN`]; default 100.
+    /// Points of the LP_τ plan (eq. 18–19), 1 to [`MAX_PLAN`]; default
+    /// [`DEFAULT_PLAN`].
     pub plan: usize,
-    /// Local searches from the best plan points; default 1.
+    /// Local searches from the best plan points; default [`DEFAULT_STARTS`].
     pub starts: usize,
     /// The local search; default Levenberg–Marquardt.
     pub method: Method,
@@ -108,7 +128,7 @@ pub struct SearchOptions {
     /// Where the local search starts; default the plan.
     pub start: Start,
     /// MiB a whole Jacobian may take before it is taken block by block
-    /// ([`Settings::jacobian_memory`]); `None`: 256.
+    /// ([`Settings::jacobian_memory`]); `None`: [`DEFAULT_JACOBIAN_MIB`].
     pub jacobian_memory: Option<usize>,
     /// Profile likelihoods after the bounds ([`Settings::profiles`]);
     /// `None`: none.
@@ -118,30 +138,63 @@ pub struct SearchOptions {
 impl Default for SearchOptions {
     fn default() -> Self {
         SearchOptions {
-            plan: 100,
-            starts: 1,
-            method: Method::Lm,
+            plan: DEFAULT_PLAN,
+            starts: DEFAULT_STARTS,
+            method: DEFAULT_METHOD,
             weights: None,
-            noise_model: NoiseModel::default(),
+            noise_model: DEFAULT_NOISE_MODEL,
             threads: None,
-            from: 0.0,
+            from: DEFAULT_FROM,
             window: None,
-            start: Start::Plan,
+            start: DEFAULT_START,
             jacobian_memory: None,
             profiles: None,
         }
     }
 }
 
-/// An option outside its range: the option's name and what is wrong with
-/// its value. Shown as the command line spells it (`--plan 0: must be …`);
-/// [`OptionError::keyword_text`] spells it as a keyword argument.
+/// Each option's default as its front ends show it, by the option's name:
+/// numbers as numbers, choices by name (the Python module's keyword
+/// defaults are read from here).
+pub fn defaults() -> Vec<(&'static str, DefaultValue)> {
+    use DefaultValue::{Count, Name, Seconds};
+    vec![
+        ("plan", Count(DEFAULT_PLAN)),
+        ("starts", Count(DEFAULT_STARTS)),
+        ("method", Name(name_of(&DEFAULT_METHOD, &METHODS))),
+        ("weights", Name(name_of(&DEFAULT_WEIGHTS, &WEIGHTS))),
+        ("noise_model", Name(name_of(&DEFAULT_NOISE_MODEL, &NOISE_MODELS))),
+        ("window", Seconds(DEFAULT_WINDOW)),
+        ("from", Seconds(DEFAULT_FROM)),
+        ("start", Name(name_of(&DEFAULT_START, &STARTS))),
+        ("jacobian_memory", Count(DEFAULT_JACOBIAN_MIB)),
+        ("profile_points", Count(DEFAULT_PROFILE_POINTS)),
+    ]
+}
+
+/// An option's default ([`defaults`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum DefaultValue {
+    /// A count.
+    Count(usize),
+    /// A real number (a time in s, or a fraction).
+    Seconds(f64),
+    /// A choice, by name.
+    Name(&'static str),
+}
+
+/// An option outside its range: the option's name (snake case, as the
+/// reference names it: `plan`, `profile_points`) and what is wrong with its
+/// value. Its own words name the option in backticks (`` `plan` 0: must be
+/// … ``); each front end spells the name its own way ([`Self::spelt`]):
+/// the command line `--plan 0: …`, the Python module `plan=0: …`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("--{option} {detail}")]
+#[error("`{option}` {detail}")]
 pub struct OptionError {
     /// The option (`plan`, `starts`, …).
     pub option: &'static str,
-    /// Its value and what is wrong with it (`0: must be 1 to 1000000`).
+    /// Its value and what is wrong with it (`0: must be 1 to 1000000`), or
+    /// what is wrong when no value was given.
     pub detail: String,
 }
 
@@ -150,10 +203,12 @@ impl OptionError {
         OptionError { option, detail }
     }
 
-    /// The message with the options as keyword arguments (`plan=0: must
-    /// be …`), see [`keyword_spelling`].
-    pub fn keyword_text(&self) -> String {
-        keyword_spelling(&self.to_string())
+    /// The message with the option spelt `name`: `name`, then `joiner`
+    /// (`" "` after a command-line flag, `"="` after a keyword) when the
+    /// detail starts with the option's value, else a space.
+    pub fn spelt(&self, name: &str, joiner: &str) -> String {
+        let sep = if is_value(&self.detail) { joiner } else { " " };
+        format!("{name}{sep}{}", self.detail)
     }
 }
 
@@ -230,11 +285,11 @@ impl SearchOptions {
             .filter(|n| !(MIN_POINTS..=MAX_POINTS).contains(n))
         {
             let detail = format!("{n}: must be {MIN_POINTS} to {MAX_POINTS}");
-            return Err(OptionError::new("profile-points", detail));
+            return Err(OptionError::new("profile_points", detail));
         }
         if self.start == Start::Values && self.starts != 1 {
             let detail = format!(
-                "{} with --start values: the search starts once, from the values",
+                "{} with a start from the values: the search starts once, from the values",
                 self.starts
             );
             return Err(OptionError::new("starts", detail));
@@ -429,13 +484,16 @@ mod tests {
                     starts: 2,
                     ..Default::default()
                 },
-                "--starts 2 with --start values",
+                "--starts 2 with a start from the values",
             ),
         ];
         for (o, text) in bad {
             let e = o.check().unwrap_err();
-            assert!(e.to_string().starts_with(text), "{e}");
-            assert!(!e.keyword_text().contains("--"), "{}", e.keyword_text());
+            let cli = e.spelt(&format!("--{}", e.option), " ");
+            assert!(cli.starts_with(text), "{cli}");
+            assert!(!e.to_string().contains("--"), "{e}");
+            let keyword = e.spelt(e.option, "=");
+            assert!(keyword.starts_with(&format!("{}=", e.option)), "{keyword}");
         }
         assert!(SearchOptions::default().check().is_ok());
     }

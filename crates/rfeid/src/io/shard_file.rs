@@ -99,7 +99,7 @@ impl SearchSpec {
             starts: self.starts,
             method: named("method", &self.method, &METHODS)?,
             weights: Some(named("weights", &self.weights, &WEIGHTS)?),
-            noise_model: named("noise-model", &self.noise_model, &NOISE_MODELS)?,
+            noise_model: named("noise_model", &self.noise_model, &NOISE_MODELS)?,
             threads,
             from: self.from,
             window: self.window,
