@@ -10,6 +10,13 @@ thread counts and the keys named on the command line as allowed to differ
 
 Numbers are compared exactly (bit for bit, as JSON text parses them).
 Prints one line per difference and exits 1 if there is any.
+
+--words compares results of before and after warnings and reasons were
+tagged: a tagged warning ({"kind", ..., "message"}) counts as its message
+(the words older files hold), a verdict reason's `message` (its words) is
+dropped, and the `detail` of `no_standard_errors`/`simulation_failed` is
+compared as the `message` it was called before; every other field must be
+equal, so the tags add values without changing a word.
 """
 import argparse
 import json
@@ -57,12 +64,43 @@ def load(p):
         return {"text": text}
 
 
+def words(doc):
+    """`doc` with tagged warnings and reasons as the words they replace
+    (see --words); documents of other shapes are returned as they are."""
+    if not isinstance(doc, dict):
+        return doc
+
+    def reason(r):
+        if not isinstance(r, dict):
+            return r
+        r = {k: v for k, v in r.items() if k != "message"}
+        if "detail" in r:
+            r["message"] = r.pop("detail")
+        return r
+
+    def warning(w):
+        return w.get("message") if isinstance(w, dict) else w
+
+    out = dict(doc)
+    if isinstance(out.get("warnings"), list):
+        out["warnings"] = [warning(w) for w in out["warnings"]]
+    verdict = out.get("verdict")
+    if isinstance(verdict, dict) and isinstance(verdict.get("reasons"), list):
+        out["verdict"] = dict(verdict, reasons=[reason(r) for r in verdict["reasons"]])
+    for p in out.get("profiles") or []:
+        if isinstance(p, dict) and isinstance(p.get("warnings"), list):
+            p["warnings"] = [warning(w) for w in p["warnings"]]
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("old", type=Path)
     ap.add_argument("new", type=Path)
     ap.add_argument("--allow", action="append", default=[])
+    ap.add_argument("--words", action="store_true", help="compare tagged warnings and reasons as their words")
     a = ap.parse_args()
+    norm = words if a.words else (lambda d: d)
     allowed = ALWAYS + a.allow
     failed = 0
     names = sorted(p.name for p in a.old.iterdir() if p.suffix in (".json", ".status"))
@@ -74,7 +112,7 @@ def main():
             failed += 1
             continue
         out = []
-        diff(load(a.old / name), load(new), [], allowed, out)
+        diff(norm(load(a.old / name)), norm(load(new)), [], allowed, out)
         for line in out:
             print(f"{name}: {line}")
         failed += bool(out)

@@ -14,8 +14,8 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use rfeid::identification::cancel::Cancel;
 use rfeid::identification::options::prepare;
-use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::pipeline::{plan as pipeline_plan, ProfileRequest, Start};
+use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::shard::{check_together, evaluate_share, merge_shards};
 use rfeid::io::atomic::write_atomically;
 use rfeid::io::digest::input_digests;
@@ -70,6 +70,51 @@ fn resumed(
     Ok(done)
 }
 
+/// The checks of a shard's arguments before anything is computed: (K, N)
+/// within the plan, a search from the plan without profiles, a model from
+/// a file (not a campaign), an output that is neither input. Returns the
+/// model's file and the model with `steps` (tolerance, substeps) applied.
+fn shard_inputs(
+    model: &PyModel,
+    data: &Path,
+    (k, n): (usize, usize),
+    output: &Path,
+    options: &rfeid::identification::options::SearchOptions,
+    (tolerance, substeps): (Option<f64>, Option<usize>),
+) -> PyResult<(PathBuf, rfeid::model::Model)> {
+    if !(k < n && n <= options.plan) {
+        return Err(PyValueError::new_err(format!(
+            "shard=({k}, {n}): expected (K, N) with 0 <= K < N <= plan ({})",
+            options.plan
+        )));
+    }
+    if options.start != Start::Plan || options.profiles.is_some() {
+        return Err(PyValueError::new_err(
+            "shard with start='values' or profiles: a shard evaluates plan points only; give profiles to merge",
+        ));
+    }
+    let model_path = model.path.clone().ok_or_else(|| {
+        model_error("shard: the model must be loaded from a file (Model.load), which the shard records for merge")
+    })?;
+    let edited =
+        set_values::stepped(model.model.clone(), tolerance, substeps).map_err(model_error)?;
+    if !edited.experiments.is_empty() {
+        return Err(model_error(format!(
+            "{}: shards of a campaign ([[experiment]] entries) are not supported; run the campaign in one call",
+            model_path.display()
+        )));
+    }
+    for (p, what) in [(model_path.as_path(), "model"), (data, "data")] {
+        if output == p {
+            return Err(PyValueError::new_err(format!(
+                "output={}: the {what} file; choose another output",
+                output.display()
+            )));
+        }
+    }
+    Ok((model_path, edited))
+}
+
 /// Runs shard `shard` = (K, N) of the identification of `model` from the
 /// data file `data` with `options` (the model's `tolerance` and
 /// `substeps` replaced when given) and writes its shard file to `output`
@@ -112,36 +157,14 @@ pub fn identify_shard(
     )?;
     options.check().map_err(|e| option_error(&e))?;
     let (k, n) = shard;
-    if !(k < n && n <= options.plan) {
-        return Err(PyValueError::new_err(format!(
-            "shard=({k}, {n}): expected (K, N) with 0 <= K < N <= plan ({})",
-            options.plan
-        )));
-    }
-    if options.start != Start::Plan || options.profiles.is_some() {
-        return Err(PyValueError::new_err(
-            "shard with start='values' or profiles: a shard evaluates plan points only; give profiles to merge",
-        ));
-    }
-    let model_path = model.path.clone().ok_or_else(|| {
-        model_error("shard: the model must be loaded from a file (Model.load), which the shard records for merge")
-    })?;
-    let edited =
-        set_values::stepped(model.model.clone(), tolerance, substeps).map_err(model_error)?;
-    if !edited.experiments.is_empty() {
-        return Err(model_error(format!(
-            "{}: shards of a campaign ([[experiment]] entries) are not supported; run the campaign in one call",
-            model_path.display()
-        )));
-    }
-    for (p, what) in [(&model_path, "model"), (&data, "data")] {
-        if output == *p {
-            return Err(PyValueError::new_err(format!(
-                "output={}: the {what} file; choose another output",
-                output.display()
-            )));
-        }
-    }
+    let (model_path, edited) = shard_inputs(
+        model,
+        &data,
+        shard,
+        &output,
+        &options,
+        (tolerance, substeps),
+    )?;
     let spec = SearchSpec::of(&options, tolerance, substeps);
     let hash = run_hash(&model_path, &edited, &data, &spec).map_err(data_error)?;
     let mut file = ShardFile {

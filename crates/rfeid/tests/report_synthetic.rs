@@ -183,7 +183,7 @@ fn user_text_is_escaped() {
     let model = knee_column();
     let mut result = synthetic_result(&model, 0);
     result.warnings = vec![rfeid::identification::warning::Warning::recorded(
-        "<script>alert(1)</script> & more".into(),
+        "<script>alert(1)</script> & more",
     )];
     let d = data(&model, 500);
     let mut inp = input(&model, &result, &d, None);

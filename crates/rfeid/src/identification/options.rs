@@ -163,7 +163,10 @@ pub fn defaults() -> Vec<(&'static str, DefaultValue)> {
         ("starts", Count(DEFAULT_STARTS)),
         ("method", Name(name_of(&DEFAULT_METHOD, &METHODS))),
         ("weights", Name(name_of(&DEFAULT_WEIGHTS, &WEIGHTS))),
-        ("noise_model", Name(name_of(&DEFAULT_NOISE_MODEL, &NOISE_MODELS))),
+        (
+            "noise_model",
+            Name(name_of(&DEFAULT_NOISE_MODEL, &NOISE_MODELS)),
+        ),
         ("window", Seconds(DEFAULT_WINDOW)),
         ("from", Seconds(DEFAULT_FROM)),
         ("start", Name(name_of(&DEFAULT_START, &STARTS))),

@@ -80,9 +80,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
         observations: 9000,
         correlation: Some(correlation),
         condition_number: Some(4.2e5),
-        warnings: vec![Warning::recorded(
-            "a_n1 and h_n1 are correlated (ρ = 0.97)".into(),
-        )],
+        warnings: vec![Warning::recorded("a_n1 and h_n1 are correlated (ρ = 0.97)")],
         uncertainty_error: None,
         method: Method::Lm,
         termination: StopReason::ConvergedCost,
