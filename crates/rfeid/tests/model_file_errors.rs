@@ -120,6 +120,13 @@ fn append(extra: &str) -> String {
     format!("{VALID}{extra}")
 }
 
+/// `VALID` with the pad's `uz` given the law `keys` and a parameter
+/// `f_pad` with the lines `value_lines` (its value and box).
+fn pad_law(keys: &str, value_lines: &str) -> String {
+    let text = edit(r#"name = "pad""#, r#"uz = { k = "6e7 N/m" }"#, &format!("uz = {{ {keys} }}"));
+    format!("{text}\n[[parameter]]\nname = \"f_pad\"\n{value_lines}\n")
+}
+
 const SLIDE: &str = "name = \"slide\"";
 const KNEE: &str = "name = \"knee\"";
 const EXC: &str = "name = \"exciter\"";
@@ -129,6 +136,7 @@ fn cases() -> Vec<Case> {
     let slide = r#"element "slide""#;
     let knee = r#"body "knee""#;
     let exc = r#"excitation "exciter""#;
+    let pad = r#"element "pad", component uz"#;
     vec![
         // Names.
         case("unknown body", edit(SLIDE, r#"body = "knee""#, r#"body = "kne""#), slide, "body", "unknown body 'kne'", Some(r#""kne""#)),
@@ -162,6 +170,14 @@ fn cases() -> Vec<Case> {
         case("negative stiffness", edit(r#"name = "pad""#, r#""6e7 N/m""#, r#""-6e7 N/m""#), r#"element "pad", component uz"#, "k", "must not be negative", Some(r#""-6e7 N/m""#)),
         case("unknown law", edit(SLIDE, r#""power""#, r#""quadratic""#), r#"element "slide", component ux"#, "law", "unknown law 'quadratic'", Some(r#""quadratic""#)),
         case("unknown law with another law's keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "coulomb", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'coulomb'", Some(r#""coulomb""#)),
+        // A law key naming a parameter: its nominal value, and its whole box, obey the law's rule.
+        case("negative friction force as a parameter", pad_law(r#"law = "friction", f = "f_pad""#, r#"value = "-5 N""#), pad, "f", "parameter 'f_pad' is -5 N: a friction force must not be negative (f ≥ 0)", Some(r#""f_pad""#)),
+        case("friction force's box below 0", pad_law(r#"law = "friction", f = "f_pad""#, "value = \"5 N\"\nmin = \"-10 N\"\nmax = \"50 N\""), pad, "f", "parameter 'f_pad' has the box [-10 N, 50 N], which reaches values the law refuses: a friction force must not be negative (f ≥ 0)", Some(r#""f_pad""#)),
+        case("smoothing's box below 0", pad_law(r#"law = "friction", f = "30 N", smoothing = "f_pad""#, "value = \"1 mm/s\"\nmin = \"-1 mm/s\"\nmax = \"5 mm/s\""), pad, "smoothing", "[-1 mm/s, 5 mm/s], which reaches values the law refuses: a velocity scale must be positive (smoothing > 0)", Some(r#""f_pad""#)),
+        case("Stribeck velocity's box below 0", pad_law(r#"law = "friction", f = "30 N", fs = "40 N", vs = "f_pad""#, "value = \"5 mm/s\"\nmin = \"-5 mm/s\"\nmax = \"10 mm/s\""), pad, "vs", "(vs > 0)", Some(r#""f_pad""#)),
+        case("Bouc-Wen exponent's box below 1", pad_law(r#"law = "bouc-wen", alpha = "1e4 N/m", beta = 1e3, gamma = 0.8, d = -1.1, n = "f_pad""#, "value = 1.5\nmin = 0.5\nmax = 2"), pad, "n", "parameter 'f_pad' has the box [0.5, 2], which reaches values the law refuses: the Bouc–Wen exponent must be at least 1 (n ≥ 1)", Some(r#""f_pad""#)),
+        case("fixed negative smoothing", pad_law(r#"law = "friction", f = "30 N", smoothing = "-1 mm/s", c = "f_pad""#, r#"value = "1 N*s/m""#), pad, "smoothing", "must be positive (found -0.001)", Some(r#""-1 mm/s""#)),
+        case("damping's box below 0", edit(r#"name = "h_n""#, r#"min = "1.8 daN*ms/um""#, r#"min = "-1.8 daN*ms/um""#), r#"element "slide", component ux"#, "c", "parameter 'h_n' has the box [-1.8 daN*ms/um, 5.4 daN*ms/um], which reaches values the law refuses: a damping must not be negative (c ≥ 0)", Some(r#""h_n""#)),
         // Excitations and sensors.
         case("zero excitation direction", edit(EXC, "direction = [1, 2, 1]", "direction = [0, 0, 0]"), exc, "direction", "zero", Some("[0, 0, 0]")),
         case("zero sensor direction", edit(SENSOR, "direction = [1, 0, 0]", "direction = [0, 0, 0.0]"), r#"sensor "knee_ax""#, "direction", "zero", Some("[0, 0, 0.0]")),

@@ -7,6 +7,7 @@ mod elements;
 mod excitations;
 mod experiments;
 mod parameters;
+mod rules;
 mod sensors;
 mod signal;
 mod simulation;
