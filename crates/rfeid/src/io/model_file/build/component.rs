@@ -66,7 +66,10 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
                 rc.law.as_ref().map(|l| l.span()),
                 &comp.entry,
                 "law",
-                format!("unknown law '{other}' (linear, power, friction or bouc-wen)"),
+                format!(
+                    "unknown law '{other}' (linear, power, friction or bouc-wen){}",
+                    law_hint(other)
+                ),
             ))
         }
     };
@@ -81,6 +84,42 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         }
     }
     build(ctx, comp)
+}
+
+/// The laws a component can name.
+const LAWS: [&str; 4] = ["linear", "power", "friction", "bouc-wen"];
+
+/// `"; did you mean 'friction'?"` for a law's name written with another
+/// case, without its hyphen, or within two edits of it; empty otherwise.
+fn law_hint(written: &str) -> String {
+    let plain = |s: &str| -> Vec<char> {
+        s.to_lowercase()
+            .chars()
+            .filter(|c| c.is_alphanumeric())
+            .collect()
+    };
+    let w = plain(written);
+    LAWS.iter()
+        .map(|law| (edit_distance(&w, &plain(law)), law))
+        .filter(|(d, _)| *d <= 2)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, law)| format!("; did you mean '{law}'?"))
+        .unwrap_or_default()
+}
+
+/// The Levenshtein distance between two words.
+fn edit_distance(a: &[char], b: &[char]) -> usize {
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let substituted = diagonal + usize::from(ca != cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substituted.min(row[j] + 1).min(diagonal + 1);
+        }
+    }
+    row[b.len()]
 }
 
 /// No spring: a damper `c` alone (a direction free of springs).
@@ -156,7 +195,7 @@ fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     };
     let alpha = get(ctx, &rc.alpha, k_dim, "alpha")?;
     let beta_dim = force.powf(1.0 - n_nominal).div(length);
-    let beta = get(ctx, &rc.beta, beta_dim, "beta")?;
+    let beta = beta(ctx, comp, n, beta_dim)?;
     let gamma = get(ctx, &rc.gamma, Dimension::DIMENSIONLESS, "gamma")?;
     let d = get(ctx, &rc.d, Dimension::DIMENSIONLESS, "d")?;
     let k = match &rc.k {
@@ -171,6 +210,43 @@ fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         d,
         n,
     }))
+}
+
+/// Bouc–Wen's β, of dimension `dim`: N^(1−n)/m at n's value (1/m for
+/// n = 1). With n a parameter, whose value the search, `--set` or an
+/// experiment's `set` changes, a unit would mean a different β at each n:
+/// β is then a bare number (or a parameter with bare numbers), taken in N
+/// and m (N·m and rad for a rotation) at every n, and a unit is refused
+/// saying so.
+fn beta(ctx: &mut Ctx, comp: &Comp, n: Value, dim: Dimension) -> Result<Value> {
+    let entry = comp.entry.as_str();
+    let raw = required(ctx, &comp.raw().beta, comp.c.span(), entry, "beta")?;
+    if let Value::Param(ni) = n {
+        let with_unit = match raw.get_ref() {
+            RawNum::Num(_) => false,
+            RawNum::Text(t) if looks_numeric(t) => !bare(t),
+            RawNum::Text(t) => ctx.param_index.get(t.trim()).is_some_and(|&i| {
+                let p = &ctx.params[i];
+                let box_units = p.bounds.is_some_and(|(lo, hi)| lo.1.is_some() || hi.1.is_some());
+                p.value.1.is_some() || box_units
+            }),
+        };
+        if with_unit {
+            let si = match comp.rotational {
+                true => "N·m and rad",
+                false => "N and m",
+            };
+            let message = format!(
+                "n is the parameter '{}', so beta's unit, N^(1−n)/m ({dim} at n = {}), changes \
+                 with n: write beta (or its parameter's value, min and max) as a bare number, \
+                 taken in {si} at every n",
+                ctx.params[ni].name,
+                ctx.params[ni].value.0
+            );
+            return Err(ctx.err(Some(raw.span()), entry, "beta", message));
+        }
+    }
+    ruled(ctx, raw, dim, entry, "beta")
 }
 
 /// Friction (SPEC §1): a Coulomb force `f ≥ 0`, optional `f_neg ≥ 0`,
@@ -343,4 +419,26 @@ fn damping(ctx: &mut Ctx, comp: &Comp) -> Result<Value> {
         Dimension::DAMPING
     };
     ruled(ctx, v, c_dim, &comp.entry, "c")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::law_hint;
+
+    #[test]
+    fn a_law_written_nearly_right_gets_a_hint() {
+        for (written, law) in [
+            ("fricton", "friction"),
+            ("Friction", "friction"),
+            ("boucwen", "bouc-wen"),
+            ("Bouc_Wen", "bouc-wen"),
+            ("linaer", "linear"),
+            ("POWER", "power"),
+        ] {
+            assert_eq!(law_hint(written), format!("; did you mean '{law}'?"));
+        }
+        for far in ["quadratic", "coulomb", "nonsense", ""] {
+            assert_eq!(law_hint(far), "", "{far}");
+        }
+    }
 }
