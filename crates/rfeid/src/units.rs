@@ -847,7 +847,11 @@ mod tests {
         check("1e3 1/m", 1e3, D::LENGTH.powf(-1.0));
         check("1e3 1 / mm", 1e6, D::LENGTH.powf(-1.0));
         check("2 1/s", 2.0, D::FREQUENCY);
-        check("4 1/kN^0.5/m", 4.0 / 1e3f64.sqrt(), D::FORCE.powf(-0.5).div(D::LENGTH));
+        check(
+            "4 1/kN^0.5/m",
+            4.0 / 1e3f64.sqrt(),
+            D::FORCE.powf(-0.5).div(D::LENGTH),
+        );
         assert_eq!(power_law.length, -0.5);
     }
 

@@ -123,7 +123,11 @@ fn append(extra: &str) -> String {
 /// `VALID` with the pad's `uz` given the law `keys` and a parameter
 /// `f_pad` with the lines `value_lines` (its value and box).
 fn pad_law(keys: &str, value_lines: &str) -> String {
-    let text = edit(r#"name = "pad""#, r#"uz = { k = "6e7 N/m" }"#, &format!("uz = {{ {keys} }}"));
+    let text = edit(
+        r#"name = "pad""#,
+        r#"uz = { k = "6e7 N/m" }"#,
+        &format!("uz = {{ {keys} }}"),
+    );
     format!("{text}\n[[parameter]]\nname = \"f_pad\"\n{value_lines}\n")
 }
 
@@ -188,6 +192,10 @@ fn cases() -> Vec<Case> {
         case("reaction on the excited body", edit(EXC, r#"reaction = "column""#, r#"reaction = "knee""#), exc, "reaction", "itself", Some(r#""knee""#)),
         case("key of another signal type", edit(EXC, r#"frequency = "80 Hz""#, r#"frequency = "80 Hz", f0 = 3.0"#), exc, "signal.f0", "does not apply to a sine", Some("3.0")),
         case("unknown quantity", edit(SENSOR, r#""acceleration""#, r#""jerk""#), r#"sensor "knee_ax""#, "quantity", "unknown quantity 'jerk'", Some(r#""jerk""#)),
+        case("noise as a boolean", edit(SENSOR, r#"quantity = "acceleration""#, "quantity = \"acceleration\"\nnoise = true"), r#"sensor "knee_ax""#, "noise", "a boolean (true) is not allowed here: expected a number or a string holding a quantity with a unit (\"15 daN/um\"); parameters are not allowed here", Some("true")),
+        case("noise as a parameter", edit(SENSOR, r#"quantity = "acceleration""#, "quantity = \"acceleration\"\nnoise = \"a_t\""), r#"sensor "knee_ax""#, "noise", "parameters are not allowed here", Some(r#""a_t""#)),
+        case("stiffness as a boolean", edit(SLIDE, r#"k = "a_t""#, "k = false"), r#"element "slide", component uy"#, "k", "a boolean (false) is not allowed here: expected a number, a string holding a quantity with a unit (\"15 daN/um\") or a parameter's name", Some("false")),
+        case("parameter value as a boolean", edit(r#"name = "a_t""#, r#""15 daN/um""#, "true"), r#"parameter "a_t""#, "value", "a boolean (true) is not allowed here", Some("true")),
         // Parameters.
         case("value outside the box", edit(r#"name = "a_n""#, r#"value = "380 daN/um^2""#, r#"value = "600 daN/um^2""#), r#"parameter "a_n""#, "value", "outside [min, max]", Some(r#""600 daN/um^2""#)),
         case("min above max", edit(r#"name = "h_n""#, r#"min = "1.8 daN*ms/um""#, r#"min = "6 daN*ms/um""#), r#"parameter "h_n""#, "min", "must be below max", Some(r#""6 daN*ms/um""#)),
@@ -279,11 +287,14 @@ fn a_duplicate_points_at_the_second_definition() {
 fn bouc_wen_beta_takes_the_unit_its_message_names() {
     let law = |beta: &str, n: &str| {
         pad_law(
-            &format!(r#"law = "bouc-wen", alpha = "1e4 N/m", beta = "{beta}", gamma = 0.8, d = -1.1, n = {n}, c = "f_pad""#),
+            &format!(
+                r#"law = "bouc-wen", alpha = "1e4 N/m", beta = "{beta}", gamma = 0.8, d = -1.1, n = {n}, c = "f_pad""#
+            ),
             r#"value = "1 N*s/m""#,
         )
     };
-    let m = parse_model(&law("1e3 1/m", "1"), Path::new("dir/model.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let m = parse_model(&law("1e3 1/m", "1"), Path::new("dir/model.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
     let beta = match &m.elements[1].components[0].law {
         rfeid::model::Law::BoucWen(bw) => bw.beta,
         other => panic!("{other:?}"),
@@ -293,6 +304,9 @@ fn bouc_wen_beta_takes_the_unit_its_message_names() {
         let e = error_of(&law("1e3 N", n)).expect("a force is no beta");
         let said = format!("but beta needs {needs}");
         assert!(e.message.ends_with(&said), "n = {n}: {}", e.message);
-        assert!(error_of(&law(&format!("1e3 {needs}"), n)).is_none(), "n = {n}: 1e3 {needs}");
+        assert!(
+            error_of(&law(&format!("1e3 {needs}"), n)).is_none(),
+            "n = {n}: 1e3 {needs}"
+        );
     }
 }

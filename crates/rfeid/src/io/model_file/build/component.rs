@@ -223,11 +223,13 @@ fn beta(ctx: &mut Ctx, comp: &Comp, n: Value, dim: Dimension) -> Result<Value> {
     let raw = required(ctx, &comp.raw().beta, comp.c.span(), entry, "beta")?;
     if let Value::Param(ni) = n {
         let with_unit = match raw.get_ref() {
-            RawNum::Num(_) => false,
+            RawNum::Num(_) | RawNum::Bool(_) => false,
             RawNum::Text(t) if looks_numeric(t) => !bare(t),
             RawNum::Text(t) => ctx.param_index.get(t.trim()).is_some_and(|&i| {
                 let p = &ctx.params[i];
-                let box_units = p.bounds.is_some_and(|(lo, hi)| lo.1.is_some() || hi.1.is_some());
+                let box_units = p
+                    .bounds
+                    .is_some_and(|(lo, hi)| lo.1.is_some() || hi.1.is_some());
                 p.value.1.is_some() || box_units
             }),
         };
@@ -240,8 +242,7 @@ fn beta(ctx: &mut Ctx, comp: &Comp, n: Value, dim: Dimension) -> Result<Value> {
                 "n is the parameter '{}', so beta's unit, N^(1−n)/m ({dim} at n = {}), changes \
                  with n: write beta (or its parameter's value, min and max) as a bare number, \
                  taken in {si} at every n",
-                ctx.params[ni].name,
-                ctx.params[ni].value.0
+                ctx.params[ni].name, ctx.params[ni].value.0
             );
             return Err(ctx.err(Some(raw.span()), entry, "beta", message));
         }

@@ -41,8 +41,14 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let sampling = sampling(&ctx, &raw)?;
     let gravity = gravity(&ctx, &raw)?;
     let parameters = finish_parameters(&ctx)?;
-    let experiments =
-        experiments::experiments(&ctx, &raw, &parameters, &excitations, &sensors, &sampling)?;
+    let experiments = experiments::experiments(
+        &ctx,
+        &raw,
+        &parameters,
+        &excitations,
+        (&sensors, &candidates),
+        &sampling,
+    )?;
     Ok(Model {
         experiments,
         bodies: bodies.list,

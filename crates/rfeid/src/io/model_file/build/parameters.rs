@@ -60,6 +60,7 @@ fn read_parameter(ctx: &Ctx, p: &Spanned<RawParameter>, i: usize) -> Result<Para
 /// A parameter's value or bound: a plain number, or a quantity with any unit.
 fn read_number(ctx: &Ctx, v: &SNum, entry: &str, field: &str) -> Result<ReadNumber> {
     match v.get_ref() {
+        RawNum::Bool(b) => Err(ctx.boolean(*b, v, entry, field, false)),
         RawNum::Num(x) => Ok((ctx.finite(*x, v.span(), entry, field)?, None, String::new())),
         RawNum::Text(t) => {
             let q = parse_quantity(t)

@@ -65,6 +65,7 @@ impl Limit {
 }
 
 /// A field's rule: its limit and why, as a law states it.
+#[rustfmt::skip]
 fn rule_of(field: &str) -> Option<(Limit, &'static str)> {
     Some(match field {
         "mass" | "inertia" => (Limit::Positive, "a mass or moment of inertia must be positive"),
@@ -114,26 +115,44 @@ pub(super) fn check_rule(
         Value::Fixed(_) => return Ok(()),
         Value::Param(i) => {
             let p = &ctx.params[i];
-            let shown = |x: f64| shown(p, dim, x);
             let rule = format!("{why} ({field} {})", limit.text());
             match p.bounds {
                 None if limit.holds(p.value.0) => return Ok(()),
-                None => format!("parameter '{}' is {}: {rule}", p.name, shown(p.value.0)),
-                Some(((lo, _), _)) if limit.holds(lo) => return Ok(()),
-                Some(((lo, _), (hi, _))) => format!(
-                    "parameter '{}' has the box [{}, {}], which reaches values the law refuses: \
-                     {rule}, and plan points there would fail; give '{}' a min {} {}",
+                None => format!(
+                    "parameter '{}' is {}: {rule}",
                     p.name,
-                    shown(lo),
-                    shown(hi),
-                    p.name,
-                    if limit == Limit::Positive { "above" } else { "of at least" },
-                    shown(limit.bound()),
+                    shown(p, dim, p.value.0)
                 ),
+                Some(((lo, _), _)) if limit.holds(lo) => return Ok(()),
+                Some(((lo, _), (hi, _))) => box_refused(p, dim, (lo, hi), limit, &rule),
             }
         }
     };
     Err(ctx.err(span, entry, field, message))
+}
+
+/// What a parameter whose box `[lo, hi]` (SI) reaches values the `rule`
+/// refuses is told: its box, the rule, and what its `min` must be.
+fn box_refused(
+    p: &ParamDraft,
+    dim: Dimension,
+    (lo, hi): (f64, f64),
+    limit: Limit,
+    rule: &str,
+) -> String {
+    let min = match limit {
+        Limit::Positive => "above",
+        _ => "of at least",
+    };
+    format!(
+        "parameter '{}' has the box [{}, {}], which reaches values the law refuses: {rule}, \
+         and plan points there would fail; give '{}' a min {min} {}",
+        p.name,
+        shown(p, dim, lo),
+        shown(p, dim, hi),
+        p.name,
+        shown(p, dim, limit.bound()),
+    )
 }
 
 /// `x` (SI) in the parameter's unit: the one its value was written in, or
@@ -173,7 +192,8 @@ mod tests {
 
     #[test]
     fn every_law_key_with_a_sign_has_a_rule() {
-        for key in ["f", "f_neg", "fs", "vs", "smoothing", "n", "m", "k", "a", "c", "alpha"] {
+        let signed = "f f_neg fs vs smoothing n m k a c alpha mass inertia";
+        for key in signed.split(' ') {
             assert!(rule_of(key).is_some(), "{key}");
         }
         for key in ["beta", "gamma", "d", "offset", "gain"] {
