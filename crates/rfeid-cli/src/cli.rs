@@ -38,11 +38,13 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// Identify the parameters that have a box from measured signals.
     #[command(
-        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o data.csv --noise 0.02 --seed 1\n  rfeid identify examples/knee-column/model.toml --data data.csv -o result.json\n  examples/knee-column-campaign/generate.sh && rfeid identify examples/knee-column-campaign/model.toml -o result.json   # a campaign: every [[experiment]]"
+        after_help = "Example:\n  rfeid simulate examples/knee-column/model.toml -o data.csv --noise 0.02 --seed 1\n  rfeid identify examples/knee-column/model.toml --data data.csv -o result.json\n  examples/knee-column-campaign/generate.sh && rfeid identify examples/knee-column-campaign/model.toml -o result.json   # a campaign: every [[experiment]]\n\nExit status: 0 trustworthy, 3 written but suspect, 4 written but model error (the verdict; --shard: 0), 1 a computation failed, 2 bad input, 130/143/129 interrupted (docs/reference/exit-status.md)."
     )]
     Identify(IdentifyArgs),
     /// The paper's example end to end: simulate the knee–column benchmark, then identify its 16 joint parameters.
-    #[command(after_help = "Example:\n  rfeid demo\n  rfeid demo --noise 0.02 --seed 3 --timings")]
+    #[command(
+        after_help = "Example:\n  rfeid demo\n  rfeid demo --noise 0.02 --seed 3 --timings\n\nExit status: 0 trustworthy, 3 written but suspect, 4 written but model error (the verdict), 1 a computation failed, 2 bad input, 130/143/129 interrupted (docs/reference/exit-status.md)."
+    )]
     Demo(DemoArgs),
     /// Write the HTML report of an identification from its RESULT.json.
     #[command(
@@ -51,7 +53,7 @@ pub enum Command {
     Report(ReportArgs),
     /// Merge the shard files of `identify --shard K/N` and finish the identification (local searches, bounds, verdict): the same result as one run.
     #[command(
-        after_help = "Example:\n  rfeid identify model.toml --data data.csv --shard 0/2 -o shard-0.json\n  rfeid identify model.toml --data data.csv --shard 1/2 -o shard-1.json\n  rfeid merge shard-0.json shard-1.json -o result.json"
+        after_help = "Example:\n  rfeid identify model.toml --data data.csv --shard 0/2 -o shard-0.json\n  rfeid identify model.toml --data data.csv --shard 1/2 -o shard-1.json\n  rfeid merge shard-0.json shard-1.json -o result.json\n\nExit status: 0 trustworthy, 3 written but suspect, 4 written but model error (the verdict), 1 a computation failed, 2 bad input, 130/143/129 interrupted (docs/reference/exit-status.md)."
     )]
     Merge(MergeArgs),
     /// Check an identification on other data: simulate at the estimate and print the fit per sensor.

@@ -21,6 +21,7 @@ mod joint_laws;
 mod mutation;
 mod outputs_and_failures;
 mod outside_fixes;
+mod outside_help;
 mod profiles_cli;
 mod report_and_output;
 mod shard_files;

@@ -11,7 +11,7 @@
 //! ```text
 //! quantity  = number [ unit-expr ]            (whitespace between them optional)
 //! number    = [+|-] (digits [. [digits]] | . digits) [(e|E) [+|-] digits]
-//! unit-expr = factor { op factor }
+//! unit-expr = [ "1" "/" ] factor { op factor }   e.g. 1/m, 1/N^0.5/m
 //! op        = "*" | "·" | "/"                 (whitespace around an op allowed)
 //! factor    = symbol [ "^" exponent ]  |  symbol superscript
 //! exponent  = [+|-|−] digits [. digits]       e.g. 2, -1, 1.5
@@ -20,6 +20,8 @@
 //!
 //! A `/` divides by the single factor that follows it and operators are read
 //! left to right, so `daN*ms/um` is daN·ms·µm⁻¹ and `N/m/s` is N·m⁻¹·s⁻¹.
+//! A reciprocal unit is written `1/m` (`"1e3 1/m"` is 10³ m⁻¹), as
+//! [`Dimension`]'s `Display` prints it, or `m^-1`.
 //! Parentheses are not supported. Unit symbols are case sensitive (`mm` is
 //! not `Mm`) and are listed, with their SI scale, in [`UNITS`]; both the micro
 //! sign `µ` (U+00B5) and the Greek letter `μ` (U+03BC) are accepted, as is
@@ -199,8 +201,8 @@ const NAMED: &[(Dimension, &str, &str)] = &[
 /// Prints an SI form: a named symbol when there is one ("N/m", "N·s/m",
 /// "kg·m²", "1/s", "dimensionless"), otherwise a product of N, kg, m and s
 /// with `^` exponents and one `/` before each denominator factor ("N/m^2",
-/// "N/m^1.5", "kg/m^3", "N/m/s"), which [`parse_quantity`] reads back
-/// (except the forms starting with "1/", such as "1/s": write Hz or s^-1).
+/// "N/m^1.5", "kg/m^3", "N/m/s", "1/m"), which [`parse_quantity`] reads
+/// back, so a message may say which unit a field needs in this form.
 ///
 /// N is used when both the mass and the time exponent are non-zero (so
 /// kg/s² becomes N/m); otherwise kg (so kg·m² stays kg·m²).
@@ -622,7 +624,8 @@ fn parse_unit(expr: &str, text: &str) -> Result<(f64, Dimension), UnitError> {
     let mut cursor = Cursor { s: expr, pos: 0 };
     let mut scale = 1.0;
     let mut dim = Dimension::DIMENSIONLESS;
-    let mut op = None;
+    // A leading `1/` (a reciprocal unit, `1/m`) divides by what follows.
+    let mut op = reciprocal(&mut cursor);
     loop {
         cursor.skip_whitespace();
         let (factor_scale, factor_dim) = parse_factor(&mut cursor, op, text)?;
@@ -648,6 +651,16 @@ fn parse_unit(expr: &str, text: &str) -> Result<(f64, Dimension), UnitError> {
             }
         }
     }
+}
+
+/// Consumes a leading `1` followed by `/` (whitespace allowed between
+/// them) and returns the `/`; consumes nothing otherwise.
+fn reciprocal(cursor: &mut Cursor<'_>) -> Option<char> {
+    let rest = cursor.s[cursor.pos..].strip_prefix('1')?;
+    let after_space = rest.trim_start();
+    after_space.strip_prefix('/')?;
+    cursor.pos = cursor.s.len() - after_space.len() + 1;
+    Some('/')
 }
 
 /// Parses `symbol [^ exponent | superscript]` into (SI scale, dimension),
@@ -830,6 +843,15 @@ mod tests {
         check("2 ms ^ 2", 2e-6, D::TIME.powf(2.0));
         let power_law = D::FORCE.div(D::LENGTH.powf(1.5));
         check("7 daN/um^1.5", 7.0 * 10.0 / 1e-9, power_law);
+        // Reciprocal units: a leading `1/`.
+        check("1e3 1/m", 1e3, D::LENGTH.powf(-1.0));
+        check("1e3 1 / mm", 1e6, D::LENGTH.powf(-1.0));
+        check("2 1/s", 2.0, D::FREQUENCY);
+        check(
+            "4 1/kN^0.5/m",
+            4.0 / 1e3f64.sqrt(),
+            D::FORCE.powf(-0.5).div(D::LENGTH),
+        );
         assert_eq!(power_law.length, -0.5);
     }
 
@@ -875,6 +897,9 @@ mod tests {
             ("1 N/", "DanglingOperator"),
             ("1 N*/m", "DanglingOperator"),
             ("1 /m", "DanglingOperator"),
+            ("1 1/", "DanglingOperator"),
+            ("1 10/m", "UnexpectedChar"),
+            ("1 1*m", "UnexpectedChar"),
             ("1 N ·", "DanglingOperator"),
             ("1 N^", "BadExponent"),
             ("1 N^x", "BadExponent"),
@@ -1020,6 +1045,14 @@ mod tests {
             assert_eq!(dim.to_string(), text, "{dim:?}");
         }
         assert_eq!(format!("{:>5}", D::STIFFNESS), "  N/m");
+        // Every form printed reads back as its dimension.
+        let bouc_wen_beta = D::FORCE.powf(-0.5).div(D::LENGTH);
+        assert_eq!(bouc_wen_beta.to_string(), "1/N^0.5/m");
+        let printed = cases.iter().map(|(dim, _)| *dim).chain([bouc_wen_beta]);
+        for dim in printed.filter(|d| !d.is_dimensionless()) {
+            let q = parse_quantity(&format!("2 {dim}")).unwrap_or_else(|e| panic!("{dim}: {e}"));
+            assert_eq!(q.dim, dim, "{dim}");
+        }
         let q = parse_quantity("15 daN/um").unwrap();
         assert_eq!(q.to_string(), "150000000 N/m");
         assert_eq!(parse_quantity("1000").unwrap().to_string(), "1000");

@@ -114,6 +114,12 @@ fn each_mistake_names_its_entry_and_field() {
             "unknown name 'knee_bx'",
         ),
         (
+            "name = \"a\"\ndata = \"a.csv\"\nsensors = [\"cz\"]\n\n[[sensor]]\nname = \"cz\"\nbody = \"knee\"\nat = [0, 0, 0]\ndirection = [0, 0, 1]\nquantity = \"acceleration\"\nnoise = \"1e-3 m/s^2\"\ncandidate = true",
+            "experiment \"a\"",
+            "sensors",
+            "'cz' is a candidate sensor (candidate = true), a place `rfeid design` may choose, not a measured one; a test's sensors are among knee_ax,",
+        ),
+        (
             "name = \"a\"\ndata = \"a.csv\"\nexcitations = [\"shaker\"]",
             "experiment \"a\"",
             "excitations",

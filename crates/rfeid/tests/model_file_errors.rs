@@ -120,6 +120,17 @@ fn append(extra: &str) -> String {
     format!("{VALID}{extra}")
 }
 
+/// `VALID` with the pad's `uz` given the law `keys` and a parameter
+/// `f_pad` with the lines `value_lines` (its value and box).
+fn pad_law(keys: &str, value_lines: &str) -> String {
+    let text = edit(
+        r#"name = "pad""#,
+        r#"uz = { k = "6e7 N/m" }"#,
+        &format!("uz = {{ {keys} }}"),
+    );
+    format!("{text}\n[[parameter]]\nname = \"f_pad\"\n{value_lines}\n")
+}
+
 const SLIDE: &str = "name = \"slide\"";
 const KNEE: &str = "name = \"knee\"";
 const EXC: &str = "name = \"exciter\"";
@@ -129,6 +140,7 @@ fn cases() -> Vec<Case> {
     let slide = r#"element "slide""#;
     let knee = r#"body "knee""#;
     let exc = r#"excitation "exciter""#;
+    let pad = r#"element "pad", component uz"#;
     vec![
         // Names.
         case("unknown body", edit(SLIDE, r#"body = "knee""#, r#"body = "kne""#), slide, "body", "unknown body 'kne'", Some(r#""kne""#)),
@@ -162,12 +174,28 @@ fn cases() -> Vec<Case> {
         case("negative stiffness", edit(r#"name = "pad""#, r#""6e7 N/m""#, r#""-6e7 N/m""#), r#"element "pad", component uz"#, "k", "must not be negative", Some(r#""-6e7 N/m""#)),
         case("unknown law", edit(SLIDE, r#""power""#, r#""quadratic""#), r#"element "slide", component ux"#, "law", "unknown law 'quadratic'", Some(r#""quadratic""#)),
         case("unknown law with another law's keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "coulomb", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'coulomb'", Some(r#""coulomb""#)),
+        case("misspelt law with its keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "fricton", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'fricton' (linear, power, friction or bouc-wen); did you mean 'friction'?", Some(r#""fricton""#)),
+        case("law in capitals", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "Friction", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'Friction' (linear, power, friction or bouc-wen); did you mean 'friction'?", Some(r#""Friction""#)),
+        case("law without its hyphen", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "boucwen", alpha = 1.0, beta = 1.0, gamma = 0.5, d = 0.5"#), r#"element "slide", component ux"#, "law", "unknown law 'boucwen' (linear, power, friction or bouc-wen); did you mean 'bouc-wen'?", Some(r#""boucwen""#)),
+        // A law key naming a parameter: its nominal value, and its whole box, obey the law's rule.
+        case("negative friction force as a parameter", pad_law(r#"law = "friction", f = "f_pad""#, r#"value = "-5 N""#), pad, "f", "parameter 'f_pad' is -5 N: a friction force must not be negative (f ≥ 0)", Some(r#""f_pad""#)),
+        case("friction force's box below 0", pad_law(r#"law = "friction", f = "f_pad""#, "value = \"5 N\"\nmin = \"-10 N\"\nmax = \"50 N\""), pad, "f", "parameter 'f_pad' has the box [-10 N, 50 N], which reaches values the law refuses: a friction force must not be negative (f ≥ 0)", Some(r#""f_pad""#)),
+        case("smoothing's box below 0", pad_law(r#"law = "friction", f = "30 N", smoothing = "f_pad""#, "value = \"1 mm/s\"\nmin = \"-1 mm/s\"\nmax = \"5 mm/s\""), pad, "smoothing", "[-1 mm/s, 5 mm/s], which reaches values the law refuses: a velocity scale must be positive (smoothing > 0)", Some(r#""f_pad""#)),
+        case("Stribeck velocity's box below 0", pad_law(r#"law = "friction", f = "30 N", fs = "40 N", vs = "f_pad""#, "value = \"5 mm/s\"\nmin = \"-5 mm/s\"\nmax = \"10 mm/s\""), pad, "vs", "(vs > 0)", Some(r#""f_pad""#)),
+        case("Bouc-Wen exponent's box below 1", pad_law(r#"law = "bouc-wen", alpha = "1e4 N/m", beta = 1e3, gamma = 0.8, d = -1.1, n = "f_pad""#, "value = 1.5\nmin = 0.5\nmax = 2"), pad, "n", "parameter 'f_pad' has the box [0.5, 2], which reaches values the law refuses: the Bouc–Wen exponent must be at least 1 (n ≥ 1)", Some(r#""f_pad""#)),
+        case("fixed negative smoothing", pad_law(r#"law = "friction", f = "30 N", smoothing = "-1 mm/s", c = "f_pad""#, r#"value = "1 N*s/m""#), pad, "smoothing", "must be positive (found -0.001)", Some(r#""-1 mm/s""#)),
+        case("Bouc-Wen beta with a unit while n is a parameter", pad_law(r#"law = "bouc-wen", alpha = "1e4 N/m", beta = "1e3 1/m", gamma = 0.8, d = -1.1, n = "f_pad""#, "value = 1.5"), pad, "beta", "n is the parameter 'f_pad', so beta's unit, N^(1−n)/m (1/N^0.5/m at n = 1.5), changes with n: write beta (or its parameter's value, min and max) as a bare number, taken in N and m at every n", Some(r#""1e3 1/m""#)),
+        case("damping's box below 0", edit(r#"name = "h_n""#, r#"min = "1.8 daN*ms/um""#, r#"min = "-1.8 daN*ms/um""#), r#"element "slide", component ux"#, "c", "parameter 'h_n' has the box [-1.8 daN*ms/um, 5.4 daN*ms/um], which reaches values the law refuses: a damping must not be negative (c ≥ 0)", Some(r#""h_n""#)),
         // Excitations and sensors.
         case("zero excitation direction", edit(EXC, "direction = [1, 2, 1]", "direction = [0, 0, 0]"), exc, "direction", "zero", Some("[0, 0, 0]")),
         case("zero sensor direction", edit(SENSOR, "direction = [1, 0, 0]", "direction = [0, 0, 0.0]"), r#"sensor "knee_ax""#, "direction", "zero", Some("[0, 0, 0.0]")),
         case("reaction on the excited body", edit(EXC, r#"reaction = "column""#, r#"reaction = "knee""#), exc, "reaction", "itself", Some(r#""knee""#)),
         case("key of another signal type", edit(EXC, r#"frequency = "80 Hz""#, r#"frequency = "80 Hz", f0 = 3.0"#), exc, "signal.f0", "does not apply to a sine", Some("3.0")),
         case("unknown quantity", edit(SENSOR, r#""acceleration""#, r#""jerk""#), r#"sensor "knee_ax""#, "quantity", "unknown quantity 'jerk'", Some(r#""jerk""#)),
+        case("noise as a boolean", edit(SENSOR, r#"quantity = "acceleration""#, "quantity = \"acceleration\"\nnoise = true"), r#"sensor "knee_ax""#, "noise", "a boolean (true) is not allowed here: expected a number or a string holding a quantity with a unit (\"15 daN/um\"); parameters are not allowed here", Some("true")),
+        case("noise as a parameter", edit(SENSOR, r#"quantity = "acceleration""#, "quantity = \"acceleration\"\nnoise = \"a_t\""), r#"sensor "knee_ax""#, "noise", "parameters are not allowed here", Some(r#""a_t""#)),
+        case("stiffness as a boolean", edit(SLIDE, r#"k = "a_t""#, "k = false"), r#"element "slide", component uy"#, "k", "a boolean (false) is not allowed here: expected a number, a string holding a quantity with a unit (\"15 daN/um\") or a parameter's name", Some("false")),
+        case("parameter value as a boolean", edit(r#"name = "a_t""#, r#""15 daN/um""#, "true"), r#"parameter "a_t""#, "value", "a boolean (true) is not allowed here", Some("true")),
         // Parameters.
         case("value outside the box", edit(r#"name = "a_n""#, r#"value = "380 daN/um^2""#, r#"value = "600 daN/um^2""#), r#"parameter "a_n""#, "value", "outside [min, max]", Some(r#""600 daN/um^2""#)),
         case("min above max", edit(r#"name = "h_n""#, r#"min = "1.8 daN*ms/um""#, r#"min = "6 daN*ms/um""#), r#"parameter "h_n""#, "min", "must be below max", Some(r#""6 daN*ms/um""#)),
@@ -251,4 +279,34 @@ fn a_duplicate_points_at_the_second_definition() {
     let e = error_of(&text).unwrap();
     let first = text.find(r#""column""#).unwrap();
     assert!(e.span.unwrap().start > first);
+}
+
+/// Bouc–Wen's β in a reciprocal unit parses (`"1e3 1/m"`), and the unit a
+/// wrong β is told it needs is written as the reader accepts it.
+#[test]
+fn bouc_wen_beta_takes_the_unit_its_message_names() {
+    let law = |beta: &str, n: &str| {
+        pad_law(
+            &format!(
+                r#"law = "bouc-wen", alpha = "1e4 N/m", beta = "{beta}", gamma = 0.8, d = -1.1, n = {n}, c = "f_pad""#
+            ),
+            r#"value = "1 N*s/m""#,
+        )
+    };
+    let m = parse_model(&law("1e3 1/m", "1"), Path::new("dir/model.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let beta = match &m.elements[1].components[0].law {
+        rfeid::model::Law::BoucWen(bw) => bw.beta,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(beta, rfeid::model::Value::Fixed(1e3));
+    for (n, needs) in [("1", "1/m"), ("2", "1/N/m"), ("1.5", "1/N^0.5/m")] {
+        let e = error_of(&law("1e3 N", n)).expect("a force is no beta");
+        let said = format!("but beta needs {needs}");
+        assert!(e.message.ends_with(&said), "n = {n}: {}", e.message);
+        assert!(
+            error_of(&law(&format!("1e3 {needs}"), n)).is_none(),
+            "n = {n}: 1e3 {needs}"
+        );
+    }
 }

@@ -203,3 +203,59 @@ fn an_unsupported_body_under_gravity_has_no_equilibrium() {
         other => panic!("expected FreeUnderGravity, got {other:?}"),
     }
 }
+
+/// [`oscillator`] with a record of 1 s (10³ samples).
+fn short(spring: &str) -> String {
+    oscillator(spring, "").replace("duration = 100.0", "duration = 1.0")
+}
+
+/// A response the model itself drives beyond every bound (a Bouc–Wen law
+/// with β < 0 feeds energy in; a force of 10³⁰⁰ N) is said to be the
+/// model's at these values, not blamed on the steps chosen for
+/// `tolerance`: no smaller tolerance would help (outside test, U5). Steps
+/// that are unstable stay blamed on the steps.
+#[test]
+fn an_unbounded_response_is_not_blamed_on_the_steps() {
+    let bouc_wen =
+        r#"{ law = "bouc-wen", k = 5e4, alpha = 5e4, beta = -1e3, gamma = 0.8, d = -1.1 }"#;
+    let cases = [
+        short(bouc_wen),
+        short("{ k = 1e6 }").replace("amplitude = 10.0", "amplitude = 1e300"),
+    ];
+    for text in &cases {
+        let model = model(text);
+        match Simulator::choose(&model, &model.nominal()) {
+            Err(
+                e @ SimulationError::Unbounded {
+                    substeps: 1,
+                    finer: 4,
+                    ..
+                },
+            ) => {
+                let msg = e.to_string();
+                println!("{msg}");
+                assert!(
+                    msg.contains("grows without bound at these parameter values"),
+                    "{msg}"
+                );
+                assert!(msg.contains("will not help"), "{msg}");
+                assert!(!msg.contains("takes more steps"), "{msg}");
+            }
+            other => panic!("expected Unbounded, got {other:?}"),
+        }
+    }
+    // A stiff spring (10¹² N/m on 1 kg, at 1 kHz) and a stiff cubic one
+    // (zero stiffness at rest) diverge for the steps' sake.
+    for spring in ["{ k = 1e12 }", r#"{ law = "power", a = 1e30, m = 3.0 }"#] {
+        let model = model(
+            &short(spring).replace("sample_rate = 1000.0", "sample_rate = 1000.0\nsubsteps = 1"),
+        );
+        let e = Simulator::choose(&model, &model.nominal())
+            .map(|_| ())
+            .unwrap_err();
+        assert!(
+            matches!(e, SimulationError::Diverged { .. }),
+            "{spring}: {e}"
+        );
+    }
+}

@@ -38,6 +38,7 @@ pub mod tableau;
 mod tangent;
 #[cfg(test)]
 mod test_models;
+mod unbounded;
 mod workspace;
 
 pub use blocks::Block;
@@ -135,6 +136,30 @@ pub enum SimulationError {
         /// Whether the model fixed them (`substeps`), rather than
         /// `tolerance` choosing them.
         fixed: bool,
+        /// The largest |state| (m, rad, m/s) when it was detected; infinite
+        /// if a value was not finite.
+        magnitude: f64,
+    },
+    /// The state passed the divergence bound at the same sample, along the
+    /// same path, at `substeps` and at `finer` steps per sample: the
+    /// model's response at these parameter values grows beyond every bound
+    /// (or at least beyond 1e6), which no step choice cures (the private
+    /// `unbounded` module says how the two are told apart).
+    #[error(
+        "the response grows without bound at these parameter values: the state passes 1e6 \
+         (m, rad, m/s) at t = {time:.6} s alike at {substeps} and {finer} steps per sample, \
+         along the same path, so it is the model's motion, not the integrator's steps: a \
+         smaller `tolerance` or more `substeps` will not help; check the values (a force's \
+         size, or a law that feeds energy in: a negative stiffness or damping, Bouc–Wen's \
+         beta, gamma and d)"
+    )]
+    Unbounded {
+        /// Sample time at which both runs passed the bound, s.
+        time: f64,
+        /// Integrator steps per sample of the first run.
+        substeps: usize,
+        /// Those of the finer run.
+        finer: usize,
     },
     /// No number of steps per sample up to [`MAX_SUBSTEPS`] meets the tolerance.
     #[error(

@@ -216,7 +216,7 @@ impl<'m> Simulator<'m> {
                 if step % substeps == 0 {
                     let k = step / substeps;
                     if ws.y.iter().any(|v| !(v.abs() < BLOW_UP)) {
-                        return Err(self.diverged(&sys.params, t, substeps));
+                        return Err(self.diverged(&sys.params, t, substeps, &ws.y));
                     }
                     record(
                         &self.structure,
@@ -391,17 +391,23 @@ impl Span<'_> {
 }
 
 impl Simulator<'_> {
-    /// The error of a run whose state left every bound at `time`, naming
-    /// the model's fastest mode (outlined: the kernels' loop only calls it).
+    /// The error of a run whose state `y` left every bound at `time`,
+    /// naming the model's fastest mode (outlined: the kernels' loop only
+    /// calls it).
     #[cold]
     #[inline(never)]
-    fn diverged(&self, params: &[f64], time: f64, substeps: usize) -> SimulationError {
+    fn diverged(&self, params: &[f64], time: f64, substeps: usize, y: &[f64]) -> SimulationError {
+        let magnitude = match y.iter().all(|v| v.is_finite()) {
+            true => y.iter().fold(0.0_f64, |m, v| m.max(v.abs())),
+            false => f64::INFINITY,
+        };
         SimulationError::Diverged {
             time,
             fastest_hz: fastest_mode_hz(self.model, params),
             sample_rate: self.model.sampling.sample_rate,
             substeps,
             fixed: self.model.sampling.substeps.is_some(),
+            magnitude,
         }
     }
 }

@@ -34,7 +34,11 @@
 //! a run or two when one step per sample is enough, as on the knee–column
 //! benchmark at 10 kHz. A run that diverges counts as missing the
 //! tolerance, and the next s is at least four times larger and large
-//! enough that the fastest linearised mode has ωh ≤ 1. The run that meets
+//! enough that the fastest linearised mode has ωh ≤ 1; but the first
+//! divergence is run again at four times the steps, and if the state passes
+//! the bound at the same sample along the same path, the response itself is
+//! unbounded at these values and the choice ends there
+//! ([`SimulationError::Unbounded`]: no step count would help). The run that meets
 //! the tolerance is kept ([`Simulator::choose_keeping`]), so a caller who
 //! wants the response there does not simulate it again.
 //!
@@ -163,6 +167,8 @@ fn choose_steps_keeping<'w>(
     let mut runs = 0;
     // The fewest steps checked that a search may take (s only grows).
     let mut search = None;
+    // Whether a divergence was checked for an unbounded response (once).
+    let mut checked = false;
     loop {
         runs += 2;
         let outcome = match checked_run(model, params, s, watch.as_deref_mut()) {
@@ -188,6 +194,13 @@ fn choose_steps_keeping<'w>(
             }
             Err(e) => Err(e),
         };
+        if let Err(e @ SimulationError::Diverged { .. }) = &outcome {
+            if !std::mem::replace(&mut checked, true) {
+                if let Some(unbounded) = super::unbounded::unbounded(model, params, e) {
+                    return Err(unbounded);
+                }
+            }
+        }
         let next = match &outcome {
             Ok(e) if e.is_finite() => {
                 let predicted = s as f64 * (e / tolerance).powf(1.0 / order) * 1.1;
@@ -267,7 +280,8 @@ impl<'m> Simulator<'m> {
         let tolerance = model.sampling.tolerance;
         let (steps, chosen) = match model.sampling.substeps {
             Some(s) => {
-                let (e, chosen) = checked_run(model, params, s.max(1), watch)?;
+                let (e, chosen) = checked_run(model, params, s.max(1), watch)
+                    .map_err(|e| super::unbounded::unbounded(model, params, &e).unwrap_or(e))?;
                 let choice = StepChoice {
                     substeps: s.max(1),
                     automatic: false,

@@ -10,6 +10,10 @@ pub enum RawNum {
     Num(f64),
     /// A quantity with a unit, or a parameter name.
     Text(String),
+    /// `true` or `false`: never a valid value, but read so that the error
+    /// can name the field and say what it takes
+    /// ([`crate::io::model_file`]'s builder refuses it).
+    Bool(bool),
 }
 
 /// Reads a number or a string, and says what it expected otherwise (an
@@ -33,6 +37,9 @@ impl<'de> Deserialize<'de> for RawNum {
             }
             fn visit_u64<E>(self, v: u64) -> Result<RawNum, E> {
                 Ok(RawNum::Num(v as f64))
+            }
+            fn visit_bool<E>(self, v: bool) -> Result<RawNum, E> {
+                Ok(RawNum::Bool(v))
             }
             fn visit_str<E>(self, v: &str) -> Result<RawNum, E> {
                 Ok(RawNum::Text(v.to_string()))

@@ -1,7 +1,10 @@
 //! The free space in describable directions: candidate rigid motions
-//! (translations along the global axes, rotations about them through a
-//! centre of mass or an element's point, of one body or of a group that
-//! springs join) that lie in it, then the rest of a basis.
+//! (translations along the global axes and along the axes of the elements
+//! that touch them, rotations about the global axes through a centre of
+//! mass or an element's point, of one body or of a group that springs join)
+//! that lie in it, then the rest of a basis. A body sliding along a skewed
+//! element's axis relative to another body is thus one direction of its
+//! own, not mixed with the other's motions.
 use super::gram::has_spring;
 use super::motion::{direction, FreeDirection};
 use super::vectors::{unit_residual, CONTAINED};
@@ -60,8 +63,9 @@ fn rotation_block(model: &Model, b: usize, axis: &Vector3<f64>, point: &Vector3<
 
 /// Candidate free motions, in generalized coordinates: for each body that
 /// moves in the free space, and then for each group of bodies joined by
-/// springs, translations along the global axes and rotations about them
-/// through the centre of mass and the points of the elements touching it.
+/// springs, translations along the global axes and the axes of the
+/// elements touching it, and rotations about the global axes through the
+/// centre of mass and the points of the elements touching it.
 fn candidates(sys: &System<'_>, orthonormal: &[Vec<f64>], sqrt_m: &[f64]) -> Vec<Vec<f64>> {
     let model = sys.model;
     let n = sys.n;
@@ -84,14 +88,22 @@ fn candidates(sys: &System<'_>, orthonormal: &[Vec<f64>], sqrt_m: &[f64]) -> Vec
             .sum::<Vector3<f64>>()
             / mass;
         let mut points = vec![com];
+        let mut directions = axes.to_vec();
         for e in &model.elements {
             let touches = group.contains(&e.body)
                 || matches!(e.to, Attachment::Body(p) if group.contains(&p));
             if touches && !points.contains(&e.at) {
                 points.push(e.at);
             }
+            if touches {
+                for d in e.axes.column_iter().map(|c| c.into_owned()) {
+                    if directions.iter().all(|o| o.cross(&d).norm() > 1e-9) {
+                        directions.push(d);
+                    }
+                }
+            }
         }
-        for axis in &axes {
+        for axis in &directions {
             let mut v = vec![0.0; n];
             for &b in &group {
                 let local = model.bodies[b].axes.transpose() * axis;

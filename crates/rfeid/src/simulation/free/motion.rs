@@ -1,7 +1,7 @@
 //! One free direction: each body's rigid motion in global terms, and the
 //! direction in words.
 use super::vectors::CONTAINED;
-use crate::model::Model;
+use crate::model::{Attachment, Model};
 use nalgebra::Vector3;
 
 /// How one body moves along a free direction, in global terms.
@@ -130,8 +130,10 @@ impl FreeDirection {
 
     /// The direction in words, e.g. `carriage: free along x`, `carriage and
     /// slide together: free along (0.7071, 0.7071, 0)`, `spindle: free to
-    /// rotate about z through (0, 0, 1.2)`, or body by body when they move
-    /// differently (`free together: carriage along x, slide about z …`).
+    /// rotate about z through (0, 0, 1.2)`, `slide: free along (0.6, 0.8,
+    /// 0) relative to arm` (an element joins it to a body that stays), or
+    /// body by body when they move differently (`free together: carriage
+    /// along x, slide about z …`).
     pub fn describe(&self, model: &Model) -> String {
         match self.parts(model) {
             (who, Some(what), _) => format!("{who}: free {what}"),
@@ -167,7 +169,7 @@ impl FreeDirection {
         let what = match motion {
             Motion::Translation { .. } => motion_text(&motion),
             Motion::Rotation { .. } => format!("to rotate {}", motion_text(&motion)),
-        };
+        } + &self.relative_to(model);
         if self.motions.len() == 1 {
             return (name(first).to_string(), Some(what), false);
         }
@@ -175,6 +177,36 @@ impl FreeDirection {
         let (last, rest) = names.split_last().expect("two or more");
         let who = format!("{} and {last} together", rest.join(", "));
         (who, Some(what), true)
+    }
+}
+
+impl FreeDirection {
+    /// ` relative to arm` (and more names) when elements join the moving
+    /// bodies to bodies that stay still in this direction; empty when only
+    /// the ground holds them.
+    fn relative_to(&self, model: &Model) -> String {
+        let moves = |b: usize| self.motions.iter().any(|(m, _)| *m == b);
+        let mut still: Vec<usize> = Vec::new();
+        for e in &model.elements {
+            let Attachment::Body(to) = e.to else { continue };
+            let other = match (moves(e.body), moves(to)) {
+                (true, false) => to,
+                (false, true) => e.body,
+                _ => continue,
+            };
+            if !still.contains(&other) {
+                still.push(other);
+            }
+        }
+        let names: Vec<&str> = still
+            .iter()
+            .map(|&b| model.bodies[b].name.as_str())
+            .collect();
+        match names.split_last() {
+            None => String::new(),
+            Some((only, [])) => format!(" relative to {only}"),
+            Some((last, rest)) => format!(" relative to {} and {last}", rest.join(", ")),
+        }
     }
 }
 

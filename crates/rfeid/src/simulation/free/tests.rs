@@ -204,3 +204,29 @@ fn free_directions_nothing_acts_along_are_inert() {
         false
     ));
 }
+
+#[test]
+fn a_slide_along_a_skewed_element_axis_is_named_relative_to_the_other_body() {
+    // The carriage turns about z; the slide is held to it except along
+    // e1 = (0.6, 0.8, 0) of their element.
+    let slide = "[[body]]\nname = \"slide\"\nmass = 20.0\ninertia = [0.3, 0.3, 0.3]\n\
+                 com = [0.0, 0.0, 0.4]\n\n[[element]]\nname = \"cross\"\nbody = \"slide\"\n\
+                 to = \"carriage\"\nat = [0.0, 0.0, 0.3]\n\
+                 axes = [[0.6, 0.8, 0], [-0.8, 0.6, 0], [0, 0, 1]]\n";
+    let turning = FULL.replace("\nrz = { k = 1e6 }", "");
+    let held = FULL.replace("ux = { k = 1e8 }\n", "");
+    let m = model("[0, 0, 0.1]", &turning, &format!("{slide}{held}\n"));
+    let (free, text) = free_of(&m);
+    assert_eq!(free.len(), 2, "{text:?}");
+    assert_eq!(
+        text,
+        [
+            "slide: free along (0.6, 0.8, 0) relative to carriage",
+            "carriage and slide together: free to rotate about z through (0, 0, 0.2)",
+        ]
+    );
+    assert_eq!(
+        free.directions[0].sentence(&m),
+        "slide is free along (0.6, 0.8, 0) relative to carriage"
+    );
+}

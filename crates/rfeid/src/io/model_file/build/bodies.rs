@@ -1,5 +1,6 @@
 //! The `[[body]]` entries, and looking bodies up by name.
 use super::ctx::*;
+use super::rules::ruled;
 use crate::io::model_file::raw::*;
 use crate::model::*;
 use crate::units::Dimension;
@@ -65,7 +66,8 @@ fn body(
     }
     check_unique(ctx, index, &name, span, "body", i)?;
     let rb = b.get_ref();
-    let mass = ctx.value(
+    let mass = ruled(
+        ctx,
         required(ctx, &rb.mass, b.span(), &entry, "mass")?,
         Dimension::MASS,
         &entry,
@@ -73,7 +75,6 @@ fn body(
     )?;
     let inertia_raw = required(ctx, &rb.inertia, b.span(), &entry, "inertia")?;
     let inertia = inertia(ctx, inertia_raw, &entry)?;
-    check_positive(ctx, rb, mass, &inertia, inertia_raw, &entry)?;
     let com = ctx.vec3(
         required(ctx, &rb.com, b.span(), &entry, "com")?,
         Dimension::LENGTH,
@@ -102,31 +103,7 @@ fn inertia(ctx: &mut Ctx, inertia_raw: &SVec, entry: &str) -> Result<[Value; 3]>
     }
     let mut inertia = [Value::Fixed(0.0); 3];
     for (j, x) in inertia_raw.get_ref().iter().enumerate() {
-        inertia[j] = ctx.value(x, Dimension::INERTIA, entry, "inertia")?;
+        inertia[j] = ruled(ctx, x, Dimension::INERTIA, entry, "inertia")?;
     }
     Ok(inertia)
-}
-
-/// A fixed mass and fixed moments of inertia must be positive.
-fn check_positive(
-    ctx: &Ctx,
-    rb: &RawBody,
-    mass: Value,
-    inertia: &[Value; 3],
-    inertia_raw: &SVec,
-    entry: &str,
-) -> Result<()> {
-    let mass_span = rb.mass.as_ref().map(|m| m.span());
-    let moments = inertia
-        .iter()
-        .zip(inertia_raw.get_ref())
-        .map(|(v, raw)| (*v, "inertia", Some(raw.span())));
-    for (v, field, span) in std::iter::once((mass, "mass", mass_span)).chain(moments) {
-        if let Value::Fixed(x) = v {
-            if !(x > 0.0) {
-                return Err(ctx.err(span, entry, field, format!("must be positive (found {x})")));
-            }
-        }
-    }
-    Ok(())
 }

@@ -1,5 +1,6 @@
 //! One component (ux … rz) of an element: its law and damping.
 use super::ctx::*;
+use super::rules::ruled;
 use crate::io::model_file::raw::*;
 use crate::model::*;
 use crate::units::Dimension;
@@ -65,7 +66,10 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
                 rc.law.as_ref().map(|l| l.span()),
                 &comp.entry,
                 "law",
-                format!("unknown law '{other}' (linear, power, friction or bouc-wen)"),
+                format!(
+                    "unknown law '{other}' (linear, power, friction or bouc-wen){}",
+                    law_hint(other)
+                ),
             ))
         }
     };
@@ -80,6 +84,42 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         }
     }
     build(ctx, comp)
+}
+
+/// The laws a component can name.
+const LAWS: [&str; 4] = ["linear", "power", "friction", "bouc-wen"];
+
+/// `"; did you mean 'friction'?"` for a law's name written with another
+/// case, without its hyphen, or within two edits of it; empty otherwise.
+fn law_hint(written: &str) -> String {
+    let plain = |s: &str| -> Vec<char> {
+        s.to_lowercase()
+            .chars()
+            .filter(|c| c.is_alphanumeric())
+            .collect()
+    };
+    let w = plain(written);
+    LAWS.iter()
+        .map(|law| (edit_distance(&w, &plain(law)), law))
+        .filter(|(d, _)| *d <= 2)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, law)| format!("; did you mean '{law}'?"))
+        .unwrap_or_default()
+}
+
+/// The Levenshtein distance between two words.
+fn edit_distance(a: &[char], b: &[char]) -> usize {
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let substituted = diagonal + usize::from(ca != cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substituted.min(row[j] + 1).min(diagonal + 1);
+        }
+    }
+    row[b.len()]
 }
 
 /// No spring: a damper `c` alone (a direction free of springs).
@@ -139,25 +179,14 @@ fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     let (n, n_nominal) = match &rc.n {
         None => (Value::Fixed(1.0), 1.0),
         Some(raw) => {
-            let n = ctx.value(raw, Dimension::DIMENSIONLESS, entry, "n")?;
-            let nominal = match n {
-                Value::Fixed(x) => x,
-                Value::Param(i) => ctx.params[i].value.0,
-            };
-            if !(nominal >= 1.0) {
-                return Err(ctx.err(
-                    Some(raw.span()),
-                    entry,
-                    "n",
-                    format!("the exponent must be at least 1 (found {nominal})"),
-                ));
-            }
-            (n, nominal)
+            let n = ruled(ctx, raw, Dimension::DIMENSIONLESS, entry, "n")?;
+            (n, nominal(ctx, n))
         }
     };
     let span = comp.c.span();
     let get = |ctx: &mut Ctx, raw: &Option<SNum>, dim: Dimension, field: &str| {
-        ctx.value(
+        ruled(
+            ctx,
             required(ctx, raw, span.clone(), entry, field)?,
             dim,
             entry,
@@ -165,17 +194,12 @@ fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         )
     };
     let alpha = get(ctx, &rc.alpha, k_dim, "alpha")?;
-    non_negative(ctx, alpha, &rc.alpha, entry, "alpha")?;
     let beta_dim = force.powf(1.0 - n_nominal).div(length);
-    let beta = get(ctx, &rc.beta, beta_dim, "beta")?;
+    let beta = beta(ctx, comp, n, beta_dim)?;
     let gamma = get(ctx, &rc.gamma, Dimension::DIMENSIONLESS, "gamma")?;
     let d = get(ctx, &rc.d, Dimension::DIMENSIONLESS, "d")?;
     let k = match &rc.k {
-        Some(_) => {
-            let k = get(ctx, &rc.k, k_dim, "k")?;
-            non_negative(ctx, k, &rc.k, entry, "k")?;
-            k
-        }
+        Some(_) => get(ctx, &rc.k, k_dim, "k")?,
         None => Value::Fixed(0.0),
     };
     Ok(Law::BoucWen(BoucWen {
@@ -186,6 +210,44 @@ fn bouc_wen_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         d,
         n,
     }))
+}
+
+/// Bouc–Wen's β, of dimension `dim`: N^(1−n)/m at n's value (1/m for
+/// n = 1). With n a parameter, whose value the search, `--set` or an
+/// experiment's `set` changes, a unit would mean a different β at each n:
+/// β is then a bare number (or a parameter with bare numbers), taken in N
+/// and m (N·m and rad for a rotation) at every n, and a unit is refused
+/// saying so.
+fn beta(ctx: &mut Ctx, comp: &Comp, n: Value, dim: Dimension) -> Result<Value> {
+    let entry = comp.entry.as_str();
+    let raw = required(ctx, &comp.raw().beta, comp.c.span(), entry, "beta")?;
+    if let Value::Param(ni) = n {
+        let with_unit = match raw.get_ref() {
+            RawNum::Num(_) | RawNum::Bool(_) => false,
+            RawNum::Text(t) if looks_numeric(t) => !bare(t),
+            RawNum::Text(t) => ctx.param_index.get(t.trim()).is_some_and(|&i| {
+                let p = &ctx.params[i];
+                let box_units = p
+                    .bounds
+                    .is_some_and(|(lo, hi)| lo.1.is_some() || hi.1.is_some());
+                p.value.1.is_some() || box_units
+            }),
+        };
+        if with_unit {
+            let si = match comp.rotational {
+                true => "N·m and rad",
+                false => "N and m",
+            };
+            let message = format!(
+                "n is the parameter '{}', so beta's unit, N^(1−n)/m ({dim} at n = {}), changes \
+                 with n: write beta (or its parameter's value, min and max) as a bare number, \
+                 taken in {si} at every n",
+                ctx.params[ni].name, ctx.params[ni].value.0
+            );
+            return Err(ctx.err(Some(raw.span()), entry, "beta", message));
+        }
+    }
+    ruled(ctx, raw, dim, entry, "beta")
 }
 
 /// Friction (SPEC §1): a Coulomb force `f ≥ 0`, optional `f_neg ≥ 0`,
@@ -206,9 +268,7 @@ fn friction_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     };
     let force = |ctx: &mut Ctx, raw: &Option<SNum>, field: &str| -> Result<Option<Value>> {
         let Some(r) = raw else { return Ok(None) };
-        let v = ctx.value(r, f_dim, entry, field)?;
-        non_negative(ctx, v, raw, entry, field)?;
-        Ok(Some(v))
+        Ok(Some(ruled(ctx, r, f_dim, entry, field)?))
     };
     let f_raw = required(ctx, &rc.f, comp.c.span(), entry, "f")?;
     let f = force(ctx, &Some(f_raw.clone()), "f")?.expect("given");
@@ -216,7 +276,7 @@ fn friction_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     let stribeck = match (&rc.fs, &rc.vs) {
         (Some(_), Some(vs)) => {
             let fs = force(ctx, &rc.fs, "fs")?.expect("given");
-            Some((fs, positive(ctx, vs, v_dim, entry, "vs")?))
+            Some((fs, ruled(ctx, vs, v_dim, entry, "vs")?))
         }
         (None, None) => None,
         (given, _) => {
@@ -234,15 +294,11 @@ fn friction_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         }
     };
     let smoothing = match &rc.smoothing {
-        Some(s) => positive(ctx, s, v_dim, entry, "smoothing")?,
+        Some(s) => ruled(ctx, s, v_dim, entry, "smoothing")?,
         None => Value::Fixed(1e-3),
     };
     let k = match &rc.k {
-        Some(k) => {
-            let v = ctx.value(k, k_dim, entry, "k")?;
-            non_negative(ctx, v, &rc.k, entry, "k")?;
-            v
-        }
+        Some(k) => ruled(ctx, k, k_dim, entry, "k")?,
         None => Value::Fixed(0.0),
     };
     Ok(Law::Friction(Friction {
@@ -252,23 +308,6 @@ fn friction_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         stribeck,
         smoothing,
     }))
-}
-
-/// A velocity scale: a value of dimension `dim` that must be positive if
-/// fixed.
-fn positive(ctx: &mut Ctx, raw: &SNum, dim: Dimension, entry: &str, field: &str) -> Result<Value> {
-    let v = ctx.value(raw, dim, entry, field)?;
-    if let Value::Fixed(x) = v {
-        if !(x > 0.0) {
-            return Err(ctx.err(
-                Some(raw.span()),
-                entry,
-                field,
-                format!("must be positive (found {x})"),
-            ));
-        }
-    }
-    Ok(v)
 }
 
 /// An error if a coefficient that does not belong to `law` is given.
@@ -295,13 +334,13 @@ fn linear_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     } else {
         Dimension::STIFFNESS
     };
-    let k = ctx.value(
+    let k = ruled(
+        ctx,
         required(ctx, &rc.k, comp.c.span(), entry, "k")?,
         k_dim,
         entry,
         "k",
     )?;
-    non_negative(ctx, k, &rc.k, entry, "k")?;
     Ok(Law::Linear { k })
 }
 
@@ -320,34 +359,31 @@ fn power_law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
     } else {
         Dimension::FORCE.div(Dimension::LENGTH.powf(m_nominal))
     };
-    let a = ctx.value(
+    let a = ruled(
+        ctx,
         required(ctx, &rc.a, comp.c.span(), entry, "a")?,
         a_dim,
         entry,
         "a",
     )?;
-    non_negative(ctx, a, &rc.a, entry, "a")?;
     Ok(Law::Power { a, m, reference })
 }
 
-/// A power law's exponent `m` and its nominal value, which must be at least 1.
+/// A power law's exponent `m` and its nominal value, which must be at least 1
+/// (over its box, if it is identified).
 fn exponent(ctx: &mut Ctx, comp: &Comp) -> Result<(Value, f64)> {
     let entry = comp.entry.as_str();
     let m_raw = required(ctx, &comp.raw().m, comp.c.span(), entry, "m")?;
-    let m = ctx.value(m_raw, Dimension::DIMENSIONLESS, entry, "m")?;
-    let m_nominal = match m {
+    let m = ruled(ctx, m_raw, Dimension::DIMENSIONLESS, entry, "m")?;
+    Ok((m, nominal(ctx, m)))
+}
+
+/// A value's nominal number: its own, or its parameter's.
+fn nominal(ctx: &Ctx, v: Value) -> f64 {
+    match v {
         Value::Fixed(x) => x,
         Value::Param(i) => ctx.params[i].value.0,
-    };
-    if !(m_nominal >= 1.0) {
-        return Err(ctx.err(
-            Some(m_raw.span()),
-            entry,
-            "m",
-            format!("the exponent must be at least 1 (found {m_nominal})"),
-        ));
     }
-    Ok((m, m_nominal))
 }
 
 /// A power law's reference deformation (m, or rad for a rotation): positive, 1 when absent.
@@ -383,28 +419,27 @@ fn damping(ctx: &mut Ctx, comp: &Comp) -> Result<Value> {
     } else {
         Dimension::DAMPING
     };
-    let d = ctx.value(v, c_dim, &comp.entry, "c")?;
-    non_negative(ctx, d, &rc.c, &comp.entry, "c")?;
-    Ok(d)
+    ruled(ctx, v, c_dim, &comp.entry, "c")
 }
 
-/// An error if a fixed coefficient is negative.
-pub(super) fn non_negative(
-    ctx: &Ctx,
-    v: Value,
-    raw: &Option<SNum>,
-    entry: &str,
-    field: &str,
-) -> Result<()> {
-    if let Value::Fixed(x) = v {
-        if x < 0.0 {
-            return Err(ctx.err(
-                raw.as_ref().map(|r| r.span()),
-                entry,
-                field,
-                format!("must not be negative (found {x})"),
-            ));
+#[cfg(test)]
+mod tests {
+    use super::law_hint;
+
+    #[test]
+    fn a_law_written_nearly_right_gets_a_hint() {
+        for (written, law) in [
+            ("fricton", "friction"),
+            ("Friction", "friction"),
+            ("boucwen", "bouc-wen"),
+            ("Bouc_Wen", "bouc-wen"),
+            ("linaer", "linear"),
+            ("POWER", "power"),
+        ] {
+            assert_eq!(law_hint(written), format!("; did you mean '{law}'?"));
+        }
+        for far in ["quadratic", "coulomb", "nonsense", ""] {
+            assert_eq!(law_hint(far), "", "{far}");
         }
     }
-    Ok(())
 }

@@ -67,6 +67,7 @@ impl Ctx {
     /// A number with a unit of dimension `dim`; no parameter allowed.
     pub(super) fn number(&self, v: &SNum, dim: Dimension, entry: &str, field: &str) -> Result<f64> {
         match v.get_ref() {
+            RawNum::Bool(b) => Err(self.boolean(*b, v, entry, field, false)),
             RawNum::Num(x) => self.finite(*x, v.span(), entry, field),
             RawNum::Text(t) => {
                 if !looks_numeric(t) {
@@ -80,6 +81,30 @@ impl Ctx {
                 self.quantity(t, dim, v.span(), entry, field)
             }
         }
+    }
+
+    /// The error of a boolean written where a number belongs, saying what
+    /// the field takes: a number or a quantity, and a parameter's name where
+    /// `parameters` are allowed (the refusal of a parameter's name where they
+    /// are not says "parameters are not allowed here" too).
+    pub(super) fn boolean(
+        &self,
+        b: bool,
+        v: &SNum,
+        entry: &str,
+        field: &str,
+        parameters: bool,
+    ) -> Box<ModelFileError> {
+        let takes = match parameters {
+            true => "a number, a string holding a quantity with a unit (\"15 daN/um\") or a parameter's name",
+            false => "a number or a string holding a quantity with a unit (\"15 daN/um\"); parameters are not allowed here",
+        };
+        self.err(
+            Some(v.span()),
+            entry,
+            field,
+            format!("a boolean ({b}) is not allowed here: expected {takes}"),
+        )
     }
 
     pub(super) fn finite(
@@ -133,6 +158,9 @@ impl Ctx {
         entry: &str,
         field: &str,
     ) -> Result<Value> {
+        if let RawNum::Bool(b) = v.get_ref() {
+            return Err(self.boolean(*b, v, entry, field, true));
+        }
         if let RawNum::Text(t) = v.get_ref() {
             if !looks_numeric(t) {
                 let Some(&i) = self.param_index.get(t.trim()) else {

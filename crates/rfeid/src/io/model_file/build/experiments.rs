@@ -11,6 +11,8 @@ struct Declared<'a> {
     parameters: &'a [Parameter],
     excitations: &'a [Excitation],
     sensors: &'a [Sensor],
+    /// The candidate sensors (`candidate = true`), which no test measures.
+    candidates: &'a [Sensor],
     sampling: &'a Sampling,
 }
 
@@ -20,13 +22,14 @@ pub(super) fn experiments(
     raw: &RawFile,
     parameters: &[Parameter],
     excitations: &[Excitation],
-    sensors: &[Sensor],
+    (sensors, candidates): (&[Sensor], &[Sensor]),
     sampling: &Sampling,
 ) -> Result<Vec<Experiment>> {
     let declared = Declared {
         parameters,
         excitations,
         sensors,
+        candidates,
         sampling,
     };
     let mut seen = HashMap::new();
@@ -87,9 +90,28 @@ fn experiment(
         .iter()
         .map(|e| e.name.as_str())
         .collect();
-    let excitations = pick(ctx, &rx.excitations, &names_e, entry, "excitations", true)?;
+    let excitations = pick(
+        ctx,
+        &rx.excitations,
+        (&names_e, &[]),
+        entry,
+        "excitations",
+        true,
+    )?;
     let names_s: Vec<&str> = declared.sensors.iter().map(|s| s.name.as_str()).collect();
-    let sensors = pick(ctx, &rx.sensors, &names_s, entry, "sensors", false)?;
+    let names_c: Vec<&str> = declared
+        .candidates
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect();
+    let sensors = pick(
+        ctx,
+        &rx.sensors,
+        (&names_s, &names_c),
+        entry,
+        "sensors",
+        false,
+    )?;
     let role = role(ctx, rx, entry)?;
     if let (Some(list), Role::Fit) = (&rx.excitations, &role) {
         // A validation test may record a free or ambient response; a fitted
@@ -259,6 +281,7 @@ fn set_value(
         ));
     }
     let value = match v.get_ref() {
+        RawNum::Bool(b) => return Err(ctx.boolean(*b, v, entry, &field, false)),
         RawNum::Num(x) => ctx.finite(*x, v.span(), entry, &field)?,
         RawNum::Text(t) => {
             let q = parse_quantity(t)
@@ -280,12 +303,14 @@ fn set_value(
     Ok((i, value))
 }
 
-/// Names from a list (`excitations` or `sensors`) as indices; `None` when
-/// the list is not given. An empty list is allowed only where `empty_ok`.
+/// Names from a list (`excitations` or `sensors`) as indices into `known`;
+/// `None` when the list is not given. An empty list is allowed only where
+/// `empty_ok`. A name of `unmeasured` (a candidate sensor) is refused as
+/// such: it is declared, but no test records it.
 fn pick(
     ctx: &Ctx,
     v: &Option<toml::Spanned<Vec<toml::Spanned<String>>>>,
-    known: &[&str],
+    (known, unmeasured): (&[&str], &[&str]),
     entry: &str,
     field: &str,
     empty_ok: bool,
@@ -296,7 +321,21 @@ fn pick(
     }
     let mut out: Vec<usize> = Vec::new();
     for n in list_raw.get_ref() {
-        let Some(k) = known.iter().position(|k| *k == n.get_ref().trim()) else {
+        let name = n.get_ref().trim();
+        if unmeasured.contains(&name) {
+            return Err(ctx.err(
+                Some(n.span()),
+                entry,
+                field,
+                format!(
+                    "'{name}' is a candidate sensor (candidate = true), a place `rfeid design` \
+                     may choose, not a measured one; a test's sensors are among {} (to measure \
+                     it, remove its 'candidate = true')",
+                    list(known)
+                ),
+            ));
+        }
+        let Some(k) = known.iter().position(|k| *k == name) else {
             return Err(ctx.err(
                 Some(n.span()),
                 entry,

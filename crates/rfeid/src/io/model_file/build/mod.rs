@@ -7,6 +7,7 @@ mod elements;
 mod excitations;
 mod experiments;
 mod parameters;
+mod rules;
 mod sensors;
 mod signal;
 mod simulation;
@@ -40,8 +41,14 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let sampling = sampling(&ctx, &raw)?;
     let gravity = gravity(&ctx, &raw)?;
     let parameters = finish_parameters(&ctx)?;
-    let experiments =
-        experiments::experiments(&ctx, &raw, &parameters, &excitations, &sensors, &sampling)?;
+    let experiments = experiments::experiments(
+        &ctx,
+        &raw,
+        &parameters,
+        &excitations,
+        (&sensors, &candidates),
+        &sampling,
+    )?;
     Ok(Model {
         experiments,
         bodies: bodies.list,

@@ -60,6 +60,7 @@ fn read_parameter(ctx: &Ctx, p: &Spanned<RawParameter>, i: usize) -> Result<Para
 /// A parameter's value or bound: a plain number, or a quantity with any unit.
 fn read_number(ctx: &Ctx, v: &SNum, entry: &str, field: &str) -> Result<ReadNumber> {
     match v.get_ref() {
+        RawNum::Bool(b) => Err(ctx.boolean(*b, v, entry, field, false)),
         RawNum::Num(x) => Ok((ctx.finite(*x, v.span(), entry, field)?, None, String::new())),
         RawNum::Text(t) => {
             let q = parse_quantity(t)
@@ -197,7 +198,8 @@ pub(super) fn finish_parameters(ctx: &Ctx) -> Result<Vec<Parameter>> {
         .collect()
 }
 
-/// One parameter: its uses agree, its units fit them, its box suits every use.
+/// One parameter: its uses agree and its units fit them (each use checked
+/// its box against its rule where it was read: [`super::rules`]).
 fn finish_parameter(ctx: &Ctx, p: &ParamDraft) -> Result<Parameter> {
     let entry = format!("parameter \"{}\"", p.name);
     let dim = used_dimension(ctx, p, &entry)?;
@@ -209,8 +211,6 @@ fn finish_parameter(ctx: &Ctx, p: &ParamDraft) -> Result<Parameter> {
             in_use_dimension(ctx, p, &entry, dim, hi, "max", &p.value_spans[2])?,
         )),
     };
-    let lowest = bounds.map(|b| b.0).unwrap_or(value);
-    check_sign_over_box(ctx, p, lowest)?;
     Ok(Parameter {
         name: p.name.clone(),
         value,
@@ -267,35 +267,4 @@ fn in_use_dimension(
         )),
         _ => Ok(v),
     }
-}
-
-/// Masses and inertias positive, `k`, `a`, `c` non-negative, `m` at least 1,
-/// from the lowest value the parameter can take.
-fn check_sign_over_box(ctx: &Ctx, p: &ParamDraft, lowest: f64) -> Result<()> {
-    for (_, span, e, f) in &p.uses {
-        let need_positive = f == "mass" || f == "inertia";
-        let need_non_negative = matches!(f.as_str(), "k" | "a" | "c");
-        if (need_positive && !(lowest > 0.0))
-            || (need_non_negative && lowest < 0.0)
-            || (f == "m" && lowest < 1.0)
-        {
-            let what = if need_positive {
-                "positive"
-            } else if f == "m" {
-                "at least 1"
-            } else {
-                "non-negative"
-            };
-            return Err(ctx.err(
-                Some(span.clone()),
-                e,
-                f,
-                format!(
-                    "parameter '{}' must be {what} over its whole box (lowest {lowest:e})",
-                    p.name
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
