@@ -38,6 +38,11 @@ run kc_free identify "$kc" --data kc0.csv -o "$out/kc_free.json"
 run kc_bfgs identify "$kc" --data kc.csv --method bfgs --plan 20 -o "$out/kc_bfgs.json"
 run kc_equal identify "$kc" --data kc.csv --weights equal --window 0 -o "$out/kc_equal.json"
 run kc_values identify "$kc" --data kc.csv --start values -o "$out/kc_values.json"
+# A suspect verdict (a slideway stiffer than its box) and a warning (coarse
+# fixed steps): the verdict's reasons and the warnings.
+"$bin" simulate "$kc" -o kc_stiff.csv --noise 0.02 --seed 4 --set a_n1=7e15 -q 2>/dev/null
+run kc_bound identify "$kc" --data kc_stiff.csv --plan 8 -o "$out/kc_bound.json"
+run kc_coarse identify "$kc" --data kc.csv --plan 8 --substeps 1 -o "$out/kc_coarse.json"
 run kc_set identify "$kc" --data kc.csv --set "a_t4=27 daN/um" --from 0.05 -o "$out/kc_set.json"
 run kc_starts identify "$kc" --data kc.csv --starts 3 --plan 40 -o "$out/kc_starts.json"
 run lathe identify "$root/examples/lathe/model.toml" --data lathe.csv -o "$out/lathe.json"
