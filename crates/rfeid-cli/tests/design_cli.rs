@@ -277,3 +277,84 @@ fn design_mistakes_exit_2_naming_file_entry_and_field() {
         assert!(!out.exists(), "case {k} wrote its output");
     }
 }
+
+/// Before a first test every sensor is a candidate: `design --choose 3`
+/// chooses all three, says it compares with no sensor (text and JSON), and
+/// the commands that need a measured sensor still refuse the model, naming
+/// its file.
+#[test]
+fn design_with_no_placed_sensor_compares_with_no_sensor() {
+    let dir = scratch_dir("design-unplaced");
+    let text = std::fs::read_to_string(example()).unwrap();
+    let unplaced = edit_sensors(&text, |_, body| match body.contains("candidate = true") {
+        true => body.to_string(),
+        false => body.replacen("\nnoise = ", "\ncandidate = true\nnoise = ", 1),
+    });
+    assert_eq!(unplaced.matches("candidate = true").count(), 24);
+    let model = dir.join("unplaced.toml");
+    std::fs::write(&model, unplaced).unwrap();
+    let out = ok(&[
+        "design".as_ref(),
+        model.as_os_str(),
+        "--choose".as_ref(),
+        "3".as_ref(),
+        "-q".as_ref(),
+    ]);
+    let out = String::from_utf8(out).unwrap();
+    assert!(out.contains("placed sensors: none"), "{out}");
+    assert!(out.contains("compared with no sensor"), "{out}");
+    assert!(
+        !out.contains("placed/chosen") && !out.contains("det ratio"),
+        "{out}"
+    );
+    assert!(out.contains("D-efficiency is at least"), "{out}");
+    let d = design(&model, &["--choose", "3"]);
+    assert_eq!(d["compared_with"], "no_sensor");
+    assert_eq!(d["placed"], Value::Null);
+    assert_eq!(d["placed_sensors"].as_array().unwrap().len(), 0);
+    assert_eq!(d["chosen"].as_array().unwrap().len(), 3);
+    assert_eq!(d["choice"]["search"], "exhaustive");
+    assert_eq!(d["choice"]["determinant_ratio_log"], Value::Null);
+    assert!(d["parameters"][0]["std_error"].as_f64().unwrap() > 0.0);
+    // Without --choose there is nothing to predict; and the commands that
+    // measure refuse a model without a measured sensor.
+    let data = dir.join("none.csv");
+    let res = dir.join("r.json");
+    let refused: [(&[&std::ffi::OsStr], &str); 4] = [
+        (&["design".as_ref(), model.as_os_str()], "--choose K"),
+        (
+            &["check".as_ref(), model.as_os_str()],
+            "every [[sensor]] is a candidate",
+        ),
+        (
+            &[
+                "simulate".as_ref(),
+                model.as_os_str(),
+                "-o".as_ref(),
+                data.as_os_str(),
+            ],
+            "every [[sensor]] is a candidate",
+        ),
+        (
+            &[
+                "identify".as_ref(),
+                model.as_os_str(),
+                "--data".as_ref(),
+                data.as_os_str(),
+                "-o".as_ref(),
+                res.as_os_str(),
+            ],
+            "every [[sensor]] is a candidate",
+        ),
+    ];
+    for (args, says) in refused {
+        let o = rfeid().args(args).output().unwrap();
+        let msg = flat(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {msg}");
+        assert!(
+            msg.contains("unplaced.toml") && msg.contains(says),
+            "{args:?}: {msg}"
+        );
+    }
+    assert!(!data.exists() && !res.exists());
+}

@@ -2,15 +2,15 @@
 //! equals the Cramér–Rao bound of the whole weighted Jacobian, the
 //! greedy-plus-exchange choice is within 1 % D-efficiency of a brute-force
 //! search over every subset, and the relaxation's bound lies above every
-//! subset.
+//! subset; with no sensor placed too.
 use nalgebra::DMatrix;
 use rfeid::design::choose::{choose, criterion, log_det};
 use rfeid::design::fisher::fisher_parts;
-use rfeid::design::{bound, design, DesignSettings};
+use rfeid::design::{bound, design, DesignError, DesignSettings};
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::problem::LeastSquares;
 use rfeid::identification::uncertainty::{cramer_rao_mapped, UncertaintySettings};
-use rfeid::io::model_file::load_model;
+use rfeid::io::model_file::{load_model, parse_model, parse_model_for, Purpose};
 use rfeid::model::Model;
 use rfeid::simulation::Simulator;
 use std::path::Path;
@@ -67,8 +67,9 @@ fn prediction_equals_the_exact_cramer_rao_bound() {
     let model = knee_column();
     let exact = exact_std_errors(&model);
     let d = design(&model, &DesignSettings::default(), &|| {}).unwrap();
-    assert_eq!(d.placed.std_errors.len(), exact.len());
-    for (j, (p, e)) in d.placed.std_errors.iter().zip(&exact).enumerate() {
+    let placed = d.placed.as_ref().unwrap();
+    assert_eq!(placed.std_errors.len(), exact.len());
+    for (j, (p, e)) in placed.std_errors.iter().zip(&exact).enumerate() {
         let rel = (p / e - 1.0).abs();
         assert!(
             rel < 1e-6,
@@ -76,7 +77,7 @@ fn prediction_equals_the_exact_cramer_rao_bound() {
             d.parts.columns[j]
         );
     }
-    assert_eq!(d.placed.observations, 9000);
+    assert_eq!(placed.observations, 9000);
 }
 
 #[test]
@@ -186,7 +187,7 @@ fn a_campaign_prediction_is_the_bound_of_its_stacked_jacobian() {
     let refs: Vec<&Model> = models.iter().collect();
     let exact = bound_of(OutputError::campaign(parts), &refs, &x);
     let d = design(&model, &DesignSettings::default(), &|| {}).unwrap();
-    for (p, e) in d.placed.std_errors.iter().zip(&exact) {
+    for (p, e) in d.placed.as_ref().unwrap().std_errors.iter().zip(&exact) {
         assert!((p / e - 1.0).abs() < 1e-6, "predicted {p:e}, exact {e:e}");
     }
     // Dropping an experiment costs exactly its gain.
@@ -275,4 +276,126 @@ fn a_singular_design_names_the_parameters_it_cannot_tell_apart() {
     )
     .unwrap();
     assert!(ok.std_errors[1] > 10.0 && ok.std_errors[1].is_finite());
+}
+
+/// The knee–column before its first test: the example's 21 candidates and
+/// its 3 measured sensors make 24 places, so its three measured sensors
+/// (the knee's centre) become candidates and the k4 point's three are left
+/// out: 21 candidates, seven points by three directions (four on the knee,
+/// three on the column, as the example's grid), none placed.
+fn knee_column_unplaced() -> (Model, String) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut blocks = text.split("[[sensor]]");
+    let mut out = blocks.next().unwrap().to_string();
+    for block in blocks {
+        let name = block
+            .lines()
+            .find_map(|l| l.strip_prefix("name = \""))
+            .unwrap();
+        if name.starts_with("k4") {
+            // Keep what follows the entry (a section's heading).
+            out += &block[block.find("\n# ----").unwrap_or(block.len())..];
+            continue;
+        }
+        out += "[[sensor]]";
+        match block.contains("candidate = true") {
+            true => out += block,
+            false => out += &block.replacen("\nnoise = ", "\ncandidate = true\nnoise = ", 1),
+        }
+    }
+    let model = parse_model_for(&out, &path, Purpose::Design).expect("design reads it");
+    (model, out)
+}
+
+/// With no sensor placed, `--choose 3` picks all three of the 21 from a
+/// base information of 0: its D-efficiency against every one of the
+/// C(21, 3) = 1330 subsets (their log det from the same Fisher matrices) is
+/// at least 0.99, greedy plus exchange from the empty base is within 1 % of
+/// brute force for K = 1 to 4, the certificate holds, and the prediction is
+/// the one of the three placed.
+#[test]
+fn choosing_with_no_placed_sensor_is_checked_against_every_subset() {
+    let (model, _) = knee_column_unplaced();
+    assert!(model.sensors.is_empty());
+    assert_eq!(model.candidates.len(), 21);
+    let settings = DesignSettings {
+        choose: Some(3),
+        ..Default::default()
+    };
+    let d = design(&model, &settings, &|| {}).unwrap();
+    assert!(d.placed.is_none());
+    let c = d.chosen.as_ref().unwrap();
+    let cand = [d.parts.candidates()];
+    let r = d.parts.columns.len();
+    let base = [DMatrix::zeros(r, r)];
+    let mut all = 0;
+    let mut worst = f64::INFINITY;
+    let mut best = f64::NEG_INFINITY;
+    subsets(21, 3, &mut Vec::new(), &mut |s| {
+        all += 1;
+        let other = log_det(&s.iter().fold(base[0].clone(), |m, &i| m + &cand[0][i]));
+        best = best.max(other);
+        worst = worst.min(((c.prediction.log_det - other) / r as f64).exp());
+    });
+    assert_eq!(all, 1330);
+    eprintln!(
+        "no placed sensor, K = 3: chosen {:?}, log det {:.4}, best of {all} {best:.4}, D-efficiency against every subset at least {worst:.6}, certified {:.4} (bound {:.4})",
+        c.names, c.prediction.log_det, c.efficiency_at_least, c.upper_bound
+    );
+    assert!(worst >= 0.99, "D-efficiency {worst}");
+    assert!(
+        c.upper_bound >= best - 1e-9,
+        "bound {} below {best}",
+        c.upper_bound
+    );
+    assert!((0.0..=worst.min(1.0) + 1e-12).contains(&c.efficiency_at_least));
+    for k in 1..=4 {
+        let brute = choose(&base, &cand, k, false);
+        let greedy = choose(&base, &cand, k, true);
+        let efficiency = ((greedy.log_det - brute.log_det) / r as f64).exp();
+        eprintln!(
+            "no placed sensor, K = {k}: brute force {:?} {:.4}, greedy+exchange {:?} {:.4} (D-efficiency {efficiency:.5})",
+            brute.chosen, brute.log_det, greedy.chosen, greedy.log_det
+        );
+        assert!(
+            efficiency >= 0.99,
+            "K = {k}: greedy's D-efficiency {efficiency}"
+        );
+        assert!(greedy.log_det.is_finite(), "K = {k}");
+    }
+    // The chosen three placed: the same prediction, from no hidden base.
+    let mut placed = model.clone();
+    placed.sensors = c
+        .chosen
+        .iter()
+        .map(|&i| model.candidates[i].clone())
+        .collect();
+    placed.candidates.clear();
+    let p = design(&placed, &DesignSettings::default(), &|| {}).unwrap();
+    for (a, b) in c
+        .prediction
+        .std_errors
+        .iter()
+        .zip(&p.placed.unwrap().std_errors)
+    {
+        assert!((a / b - 1.0).abs() < 1e-9, "{a:e} vs {b:e}");
+    }
+}
+
+/// A model whose sensors are all candidates is refused for a test's data
+/// (naming the file), and by `design` without `--choose`.
+#[test]
+fn a_model_with_candidates_alone_needs_design_and_choose() {
+    let (model, text) = knee_column_unplaced();
+    let e = parse_model(&text, Path::new("unplaced.toml")).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("unplaced.toml") && msg.contains("every [[sensor]] is a candidate"),
+        "{msg}"
+    );
+    let e = design(&model, &DesignSettings::default(), &|| {}).unwrap_err();
+    assert_eq!(e, DesignError::NoPlacedSensor);
+    let e = rfeid::design::json::check_request(&model, "unplaced.toml", None, None).unwrap_err();
+    assert!(e.of_model() && e.to_string().contains("--choose K"), "{e}");
 }

@@ -1,12 +1,13 @@
 //! `rfeid design`: what a test will give before it is run (SPEC §6): the
 //! predicted standard errors of the placed sensors and, with `--choose K`,
-//! the D-optimal K of the candidate sensors added to them.
+//! the D-optimal K of the candidate sensors added to them (or, with none
+//! placed, the K that make the whole test).
 use crate::cli::DesignArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::run::design_text::print_design;
 use crate::run::failures::simulation_failure;
-use crate::run::inputs::{apply_campaign_sets, load};
+use crate::run::inputs::{apply_campaign_sets, load_for};
 use crate::run::limits::start_threads;
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
@@ -14,10 +15,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design, DesignError, DesignSettings};
 use rfeid::identification::options::check_threads;
+use rfeid::io::model_file::Purpose;
 
 /// Runs the command.
 pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
-    let model = load(&args.model, ui)?;
+    // Before a first test every sensor may be a candidate (`--choose K`).
+    let model = load_for(&args.model, Purpose::Design, ui)?;
     let mut plan = Plan::new();
     plan.input(&args.model);
     for f in &model.files {

@@ -1,6 +1,8 @@
 //! What `rfeid design` prints and writes: the table of predicted standard
 //! errors (placed, and chosen with `--choose`), the choice's certificate,
-//! the experiments' worth, and the JSON of SPEC §6.
+//! the experiments' worth, and the JSON of SPEC §6. With no sensor placed
+//! the choice is compared with no sensor: its own (absolute and relative)
+//! standard errors, no ratio.
 use crate::format::{sig, table};
 use rfeid::design::choose::Search;
 use rfeid::design::json::parameter;
@@ -9,7 +11,8 @@ use rfeid::design::predict::{warning_texts, Prediction};
 use rfeid::design::{ChosenSet, Design};
 use rfeid::model::Model;
 
-/// The table of predicted standard errors: placed, and chosen.
+/// The table of predicted standard errors: placed (if any are), and
+/// chosen, with their ratio when both are there.
 fn parameter_table(model: &Model, d: &Design) -> String {
     let chosen = d.chosen.as_ref().map(|c| &c.prediction);
     let rows: Vec<Vec<String>> = d
@@ -34,10 +37,14 @@ fn parameter_table(model: &Model, d: &Design) -> String {
                 },
                 shown(d.parts.values[j]),
             ];
-            row.extend(se(&d.placed));
+            if let Some(p) = &d.placed {
+                row.extend(se(p));
+            }
             if let Some(c) = chosen {
                 row.extend(se(c));
-                row.push(match (d.placed.std_errors.get(j), c.std_errors.get(j)) {
+            }
+            if let (Some(p), Some(c)) = (&d.placed, chosen) {
+                row.push(match (p.std_errors.get(j), c.std_errors.get(j)) {
                     (Some(a), Some(b)) => format!("{:.2}", a / b),
                     _ => "-".into(),
                 });
@@ -45,9 +52,15 @@ fn parameter_table(model: &Model, d: &Design) -> String {
             row
         })
         .collect();
-    let mut header = vec!["parameter", "unit", "value", "s.e. placed", "% placed"];
+    let mut header = vec!["parameter", "unit", "value"];
+    if d.placed.is_some() {
+        header.extend(["s.e. placed", "% placed"]);
+    }
     if chosen.is_some() {
-        header.extend(["s.e. chosen", "% chosen", "placed/chosen"]);
+        header.extend(["s.e. chosen", "% chosen"]);
+    }
+    if d.placed.is_some() && chosen.is_some() {
+        header.push("placed/chosen");
     }
     table(&header, &rows)
 }
@@ -57,25 +70,15 @@ pub fn print_design(model: &Model, d: &Design) {
     let placed: Vec<&str> = model.sensors.iter().map(|s| s.name.as_str()).collect();
     println!(
         "Predicted at the parameters' values, each sensor's `noise` as its σ (Cramér–Rao, eq. 26–29); placed sensors: {}",
-        placed.join(", ")
+        match placed.is_empty() {
+            true => "none".into(),
+            false => placed.join(", "),
+        }
     );
     println!();
     print!("{}", parameter_table(model, d));
     println!();
-    let cond = |p: &Prediction| p.condition_number.map_or("-".into(), |c| sig(c, 3));
-    let log_det = |v: f64| match v.is_finite() {
-        true => format!("{v:.3}"),
-        false => "- (F singular)".into(),
-    };
-    println!(
-        "placed: log det F = {}, condition number {}, N = {}",
-        log_det(d.placed.log_det),
-        cond(&d.placed),
-        d.placed.observations
-    );
-    for w in warning_texts(&d.parts.columns, &d.placed) {
-        println!("  warning (placed): {w}");
-    }
+    print_placed(d);
     if let Some(c) = &d.chosen {
         print_choice(d, c);
     }
@@ -93,12 +96,34 @@ pub fn print_design(model: &Model, d: &Design) {
     }
 }
 
+/// The placed sensors' log det, condition number and warnings; with none
+/// placed, that the choice is compared with no sensor.
+fn print_placed(d: &Design) {
+    let Some(p) = &d.placed else {
+        println!(
+            "placed: none (every sensor is a candidate): the choice is compared with no sensor, whose Fisher matrix is 0 (no parameter identifiable), so no ratio is given; the standard errors above are the chosen sensors' own"
+        );
+        return;
+    };
+    let log_det = match p.log_det.is_finite() {
+        true => format!("{:.3}", p.log_det),
+        false => "- (F singular)".into(),
+    };
+    println!(
+        "placed: log det F = {log_det}, condition number {}, N = {}",
+        p.condition_number.map_or("-".into(), |c| sig(c, 3)),
+        p.observations
+    );
+    for w in warning_texts(&d.parts.columns, p) {
+        println!("  warning (placed): {w}");
+    }
+}
+
 /// The chosen sensors, what they add and the choice's certificate; with a
 /// Fisher matrix still singular, that the choice cannot be judged by its
 /// information (no NaN or infinite numbers).
 fn print_choice(d: &Design, c: &ChosenSet) {
     let r = d.parts.columns.len() as f64;
-    let gain = c.prediction.log_det - d.placed.log_det;
     println!(
         "chosen ({}): {}",
         match c.search {
@@ -119,12 +144,22 @@ fn print_choice(d: &Design, c: &ChosenSet) {
         );
         return;
     }
+    let against = match &d.placed {
+        None => "compared with no sensor: F = 0 before, so no ratio".into(),
+        Some(p) => match c.prediction.log_det - p.log_det {
+            gain if gain.is_finite() => format!(
+                "det ratio e^{gain:.2}, {:.2}× the information per parameter",
+                (gain / r).exp()
+            ),
+            _ => "det ratio -, placed: singular".into(),
+        },
+    };
     println!(
-        "with them: log det F = {:.3} (det ratio {}, {} the information per parameter), condition number {}",
+        "with them: log det F = {:.3} ({against}), condition number {}",
         c.prediction.log_det,
-        if gain.is_finite() { format!("e^{gain:.2}") } else { "- (placed: singular)".into() },
-        if gain.is_finite() { format!("{:.2}×", (gain / r).exp()) } else { "-".into() },
-        c.prediction.condition_number.map_or("-".into(), |v| sig(v, 3))
+        c.prediction
+            .condition_number
+            .map_or("-".into(), |v| sig(v, 3))
     );
     println!(
         "optimality: no set of {} reaches log det F above {:.3} (convex relaxation), so the choice's D-efficiency is at least {:.4}",

@@ -4,16 +4,23 @@
 use crate::cli::StepArgs;
 use crate::diagnostics::{model_error, Failure};
 use crate::ui::Ui;
-use rfeid::io::model_file::load_model;
+use rfeid::io::model_file::{load_model_for, Purpose};
 use rfeid::measurement::measured::measured_from_file;
 use rfeid::model::{set_values, Model};
 use rfeid::simulation::Response;
 use std::path::Path;
 
-/// Loads and validates a model file; the reading's notes (a signal
-/// table's time axis taken on the model's grid) go to the terminal.
+/// Loads and validates a model file for a test's data (it must place a
+/// sensor, [`Purpose::Measure`]); the reading's notes (a signal table's
+/// time axis taken on the model's grid) go to the terminal.
 pub fn load(path: &Path, ui: &Ui) -> Result<Model, Failure> {
-    let model = load_model(path).map_err(model_error)?;
+    load_for(path, Purpose::Measure, ui)
+}
+
+/// [`load`] for `purpose`: `design` reads with [`Purpose::Design`], which
+/// accepts a model whose sensors are all candidates.
+pub fn load_for(path: &Path, purpose: Purpose, ui: &Ui) -> Result<Model, Failure> {
+    let model = load_model_for(path, purpose).map_err(model_error)?;
     for note in &model.notes {
         ui.note(format!("note: {note}"));
     }

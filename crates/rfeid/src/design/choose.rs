@@ -1,7 +1,8 @@
 //! D-optimal choice of K candidate sensors: maximise `log det (F_placed +
-//! Σ_{i∈S} F_i)` over sets S of K candidates (SPEC §6). Exhaustive where
-//! the subsets are few; else greedy, then Fedorov exchanges (swap one in,
-//! one out, while log det grows). Every point of a box design
+//! Σ_{i∈S} F_i)` over sets S of K candidates (SPEC §6; `F_placed` = 0 when
+//! no sensor is placed). Exhaustive where the subsets are few; else greedy,
+//! then Fedorov exchanges (swap one in, one out, while log det grows), from
+//! several first picks when the base is singular ([`greedy_exchange`]). Every point of a box design
 //! (`--over-box`) adds its own term, so the criterion is the sum of log
 //! dets over the points.
 use nalgebra::DMatrix;
@@ -76,8 +77,8 @@ fn unrank(mut rank: u64, n: usize, k: usize) -> Vec<usize> {
 }
 
 /// The D-optimal K of the candidates, added to the placed sensors: `base`
-/// holds each point's placed information, `cand[p][i]` candidate i's at
-/// point p. Exhaustive when at most [`EXHAUSTIVE_LIMIT`] subsets, else
+/// holds each point's placed information (0 with no placed sensor: the K
+/// are then the whole test), `cand[p][i]` candidate i's at point p. Exhaustive when at most [`EXHAUSTIVE_LIMIT`] subsets, else
 /// greedy plus exchange; `force_greedy` takes the latter always (for the
 /// tests that compare them). Ties go to the lower indices, so the choice
 /// does not depend on the thread count.
@@ -113,8 +114,7 @@ pub fn choose(
             };
         }
     }
-    let mut chosen = greedy(base, cand, k);
-    exchange(base, cand, &mut chosen);
+    let mut chosen = greedy_exchange(base, cand, k);
     chosen.sort_unstable();
     Choice {
         log_det: criterion(base, cand, &chosen),
@@ -123,8 +123,67 @@ pub fn choose(
     }
 }
 
-/// A small ridge, relative to the information's scale, so that greedy
-/// steps from a singular start still rank the candidates.
+/// Starts of greedy from a singular base: its first candidate is each of
+/// this many best alone in turn.
+const STARTS: usize = 4;
+
+/// Greedy additions then exchanges, on the ridged information
+/// ([`ridged`]). From a regular base, one run. From a singular one (no
+/// placed sensor, or placed sensors that leave a parameter undetermined),
+/// greedy's first pick has nothing to complement and is the best sensor
+/// alone, which the best set need not hold (nor can one exchange at a time
+/// always leave it: on the knee–column with no placed sensor, the best
+/// pair holds neither of the first greedy pick's): so the run is made from
+/// each of the [`STARTS`] best single candidates, and the set with the
+/// largest ridged criterion kept (ties to the earlier start).
+fn greedy_exchange(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], k: usize) -> Vec<usize> {
+    let ridge = ridged(base, cand);
+    let singular = base.iter().map(log_det).sum::<f64>() == f64::NEG_INFINITY;
+    let n = cand.first().map_or(0, Vec::len);
+    let firsts: Vec<Option<usize>> = match singular && k > 1 && n > 1 {
+        true => best_singles(&ridge, cand, STARTS)
+            .into_iter()
+            .map(Some)
+            .collect(),
+        false => vec![None],
+    };
+    let mut best: Option<(f64, Vec<usize>)> = None;
+    for first in firsts {
+        let mut s = greedy(&ridge, cand, k, first);
+        exchange(&ridge, cand, &mut s);
+        let v = criterion(&ridge, cand, &s);
+        if best.as_ref().is_none_or(|b| v > b.0) {
+            best = Some((v, s));
+        }
+    }
+    best.map(|b| b.1).unwrap_or_default()
+}
+
+/// The `m` candidates with the largest criterion alone on `ridge`, best
+/// first (lower index on ties).
+fn best_singles(ridge: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], m: usize) -> Vec<usize> {
+    let n = cand.first().map_or(0, Vec::len);
+    let mut alone: Vec<(usize, f64)> = (0..n)
+        .into_par_iter()
+        .map(|i| (i, criterion(ridge, cand, &[i])))
+        .collect();
+    alone.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    alone.into_iter().take(m).map(|a| a.0).collect()
+}
+
+/// Each point's `base` plus a small ridge `ε I`, ε = 1e-9 × the mean
+/// eigenvalue of the base with every candidate, so that greedy steps and
+/// exchanges from a singular start still rank the candidates.
+///
+/// This is what makes greedy well defined from an empty base (no placed
+/// sensor: `base` = 0, so `log det` of every set of fewer sensors than a
+/// regular F needs is −∞). On the ridged matrix, a set whose F has rank ρ
+/// scores `Σ log λ₁…λ_ρ + (r − ρ) log ε` to first order, each missing rank
+/// costing `log(λ/ε)` ≈ 20 or more: greedy is rank-first (it adds the
+/// candidate that raises the rank most, then the one that adds most
+/// volume), and once F is regular the ridge shifts log det by about
+/// `ε tr F⁻¹`, far below the differences the choice rests on. The
+/// criterion reported ([`Choice::log_det`]) is always the unridged one.
 fn ridged(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>]) -> Vec<DMatrix<f64>> {
     base.iter()
         .zip(cand)
@@ -170,12 +229,25 @@ fn best_addition(
         })
 }
 
-/// K greedy additions (on the ridged information).
-fn greedy(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], k: usize) -> Vec<usize> {
+/// K greedy additions to the ridged base `ridge` ([`ridged`]: well
+/// defined from a zero or singular base, rank first), each the candidate
+/// that raises the criterion most; `first`, if given, is the first.
+fn greedy(
+    ridge: &[DMatrix<f64>],
+    cand: &[Vec<DMatrix<f64>>],
+    k: usize,
+    first: Option<usize>,
+) -> Vec<usize> {
     let n = cand.first().map_or(0, Vec::len);
-    let mut m = ridged(base, cand);
+    let mut m = ridge.to_vec();
     let mut s = Vec::with_capacity(k);
-    for _ in 0..k {
+    if let Some(i) = first.filter(|&i| i < n && k > 0) {
+        s.push(i);
+        for (m, c) in m.iter_mut().zip(cand) {
+            *m += &c[i];
+        }
+    }
+    while s.len() < k {
         let pool: Vec<usize> = (0..n).filter(|i| !s.contains(i)).collect();
         let Some((i, _)) = best_addition(&m, cand, &pool) else {
             break;
@@ -189,14 +261,13 @@ fn greedy(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], k: usize) -> Vec<us
 }
 
 /// Fedorov exchanges: the best swap of a chosen and an unchosen candidate,
-/// while it raises the criterion by more than rounding (at most
-/// [`MAX_EXCHANGES`] passes).
-fn exchange(base: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], s: &mut [usize]) {
+/// while it raises the criterion on the ridged base `ridge` by more than
+/// rounding (at most [`MAX_EXCHANGES`] passes).
+fn exchange(ridge: &[DMatrix<f64>], cand: &[Vec<DMatrix<f64>>], s: &mut [usize]) {
     let n = cand.first().map_or(0, Vec::len);
-    let ridge = ridged(base, cand);
-    let mut current = criterion(&ridge, cand, s);
+    let mut current = criterion(ridge, cand, s);
     for _ in 0..MAX_EXCHANGES {
-        let m = sums(&ridge, cand, s);
+        let m = sums(ridge, cand, s);
         let pool: Vec<usize> = (0..n).filter(|i| !s.contains(i)).collect();
         let mut best: Option<(usize, usize, f64)> = None;
         for (slot, &out) in s.iter().enumerate() {
@@ -231,6 +302,41 @@ mod tests {
         sorted.sort();
         sorted.dedup();
         assert_eq!(sorted, all);
+    }
+
+    /// Greedy from an empty base, each candidate of rank one in three
+    /// parameters: every set of one or two is singular (log det −∞), yet
+    /// greedy (on the ridged information) finds the best regular set of
+    /// three, as brute force does.
+    #[test]
+    fn greedy_from_an_empty_base_reaches_full_rank() {
+        let v = [
+            [1.0, 0.0, 0.0],
+            [2.0, 0.1, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.5],
+            [0.3, 0.3, 0.3],
+            [0.0, 3.0, 3.0],
+        ];
+        let cand: Vec<DMatrix<f64>> = v
+            .iter()
+            .map(|v| {
+                let v = nalgebra::DVector::from_row_slice(v);
+                &v * v.transpose()
+            })
+            .collect();
+        let base = [DMatrix::zeros(3, 3)];
+        let cand = [cand];
+        let brute = choose(&base, &cand, 3, false);
+        let greedy = choose(&base, &cand, 3, true);
+        assert!(brute.log_det.is_finite());
+        assert_eq!(greedy.chosen, brute.chosen);
+        assert_eq!(criterion(&base, &cand, &[0, 1]), f64::NEG_INFINITY);
+        // Two cannot be regular: the choice is still made (the most
+        // informative pair), its criterion −∞.
+        let pair = choose(&base, &cand, 2, true);
+        assert_eq!(pair.chosen.len(), 2);
+        assert_eq!(pair.log_det, f64::NEG_INFINITY);
     }
 
     #[test]

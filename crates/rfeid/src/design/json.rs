@@ -36,13 +36,18 @@ impl RequestError {
 
 /// Checks `choose` and `over_box` against their limits and the model's
 /// candidates, before anything is simulated; `model_label` names the model
-/// file in the messages.
+/// file in the messages. A model without placed sensors needs `choose`.
 pub fn check_request(
     model: &Model,
     model_label: &str,
     choose: Option<usize>,
     over_box: Option<usize>,
 ) -> Result<(), RequestError> {
+    if model.sensors.is_empty() && choose.is_none() {
+        return Err(RequestError::model(format!(
+            "{model_label}: no sensor is placed (every [[sensor]] is a candidate): give --choose K to choose where K sensors go; the choice is then compared with no sensor"
+        )));
+    }
     if let Some(k) = choose {
         if k == 0 {
             return Err(RequestError::option(
@@ -124,11 +129,18 @@ fn prediction_json(model: &Model, d: &Design, p: &Prediction) -> Value {
 /// `parameters`, `correlation` and `warnings` at the top, the placed
 /// sensors' prediction under `placed`, and the choice's certificate, the
 /// experiments' worth and the box design where there are any.
+///
+/// `compared_with` says what the choice is compared with:
+/// `"placed_sensors"`, or `"no_sensor"` when none is placed; then
+/// `placed_sensors` is empty, `placed` is null and so is the choice's
+/// `determinant_ratio_log` (against F = 0 there is no ratio: the chosen
+/// set's own standard errors, at the top, are the comparison).
 pub fn design_json(model: &Model, d: &Design) -> Value {
-    let placed = prediction_json(model, d, &d.placed);
-    let mut top = match &d.chosen {
-        Some(c) => prediction_json(model, d, &c.prediction),
-        None => placed.clone(),
+    let placed = d.placed.as_ref().map(|p| prediction_json(model, d, p));
+    let mut top = match (&d.chosen, &placed) {
+        (Some(c), _) => prediction_json(model, d, &c.prediction),
+        (None, Some(p)) => p.clone(),
+        (None, None) => Value::Object(Default::default()),
     };
     let obj = top.as_object_mut().expect("an object");
     obj.insert(
@@ -139,7 +151,14 @@ pub fn design_json(model: &Model, d: &Design) -> Value {
         "placed_sensors".into(),
         json!(model.sensors.iter().map(|s| &s.name).collect::<Vec<_>>()),
     );
-    obj.insert("placed".into(), placed);
+    obj.insert(
+        "compared_with".into(),
+        json!(match d.placed {
+            Some(_) => "placed_sensors",
+            None => "no_sensor",
+        }),
+    );
+    obj.insert("placed".into(), json!(placed));
     if let Some(c) = &d.chosen {
         obj.insert(
             "choice".into(),
@@ -147,7 +166,7 @@ pub fn design_json(model: &Model, d: &Design) -> Value {
                 "search": c.search,
                 "upper_bound_log_det": c.upper_bound,
                 "efficiency_at_least": c.efficiency_at_least,
-                "determinant_ratio_log": c.prediction.log_det - d.placed.log_det,
+                "determinant_ratio_log": d.placed.as_ref().map(|p| c.prediction.log_det - p.log_det),
             }),
         );
     }

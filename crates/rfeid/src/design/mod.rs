@@ -29,8 +29,10 @@ use predict::{predict, Prediction};
 /// Why a design could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DesignError {
-    /// A sensor lacks the standard deviation of its noise.
-    #[error("sensor \"{sensor}\": `noise` is missing: a design needs every {} sensor's noise standard deviation (e.g. noise = \"1e-3 {unit}\")", if *candidate { "candidate" } else { "placed" })]
+    /// A sensor lacks the standard deviation of its noise. A design reads
+    /// no data, so each sensor's σ is its own `noise` (no default, and none
+    /// taken from another sensor).
+    #[error("sensor \"{sensor}\": `noise` is missing: a design needs every {} sensor's noise standard deviation (e.g. noise = \"1e-3 {unit}\"){}", if *candidate { "candidate" } else { "placed" }, if *candidate { "; no data is read before the test, so nothing else can give it" } else { "" })]
     NoNoise {
         /// The sensor.
         sensor: String,
@@ -49,6 +51,10 @@ pub enum DesignError {
         /// Memory needed, GiB.
         gib: f64,
     },
+    /// No sensor is placed (every `[[sensor]]` is a candidate) and none is
+    /// to be chosen: there is no test to predict.
+    #[error("no sensor is placed (every [[sensor]] is a candidate): give --choose K to choose where K sensors go; the choice is then compared with no sensor")]
+    NoPlacedSensor,
     /// The model identifies no parameter.
     #[error(
         "the model identifies no parameter (none has min and max): there is nothing to design for"
@@ -143,8 +149,12 @@ pub struct ExperimentGain {
 pub struct Design {
     /// The pieces at the parameters' values.
     pub parts: FisherParts,
-    /// The placed sensors' prediction.
-    pub placed: Prediction,
+    /// The placed sensors' prediction; `None` when no sensor is placed
+    /// (every `[[sensor]]` a candidate, before a first test): the choice is
+    /// then compared with no sensor, whose Fisher matrix is 0 (nothing
+    /// identifiable, no finite standard error), so there is no ratio to
+    /// give, only the chosen set's own standard errors.
+    pub placed: Option<Prediction>,
     /// With `--choose`: the chosen set.
     pub chosen: Option<ChosenSet>,
     /// Each fitted experiment's worth (campaigns of two or more).
@@ -155,12 +165,18 @@ pub struct Design {
 
 /// Designs at the model's values: predictions for the placed sensors and,
 /// as `settings` ask, the chosen candidates and the box design. `tick` is
-/// called once per simulation finished (progress).
+/// called once per simulation finished (progress). A model without placed
+/// sensors (read with [`crate::io::model_file::Purpose::Design`]) needs
+/// `--choose K` ([`DesignError::NoPlacedSensor`]): the K are then chosen
+/// from a base information of 0.
 pub fn design(
     model: &Model,
     settings: &DesignSettings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Design, DesignError> {
+    if model.sensors.is_empty() && settings.choose.is_none_or(|k| k == 0) {
+        return Err(DesignError::NoPlacedSensor);
+    }
     if let Some(k) = settings.choose {
         if k > model.candidates.len() {
             return Err(DesignError::TooManyChosen {
@@ -183,8 +199,11 @@ pub fn design(
     };
     let parts = fisher_parts(model, &model.nominal())?;
     tick();
+    // With no placed sensor the base information is 0 (eq. 27: F is a sum
+    // over the sensors measured, and there are none).
     let placed_f = parts.placed();
-    let placed = predict(&parts, &placed_f, 0, &settings.uncertainty);
+    let placed =
+        (!model.sensors.is_empty()).then(|| predict(&parts, &placed_f, 0, &settings.uncertainty));
     let over_box = match (settings.choose, settings.over_box) {
         (Some(k), Some(n)) => Some(over_box::choose_over_box(
             model, &parts, k, n, settings, tick,

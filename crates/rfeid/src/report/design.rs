@@ -1,6 +1,7 @@
 //! The report of `rfeid design`: the candidate points on the bodies (a 3-D
 //! view projected to SVG, placed and chosen sensors marked) and the
-//! predicted relative standard errors, placed against chosen.
+//! predicted relative standard errors, placed against chosen (the chosen
+//! alone when no sensor is placed: they are compared with no sensor).
 use super::fmt::sig;
 use super::html::{table, CSS};
 use super::svg::{colour, escape, Anchor, Marker, Stroke, Svg};
@@ -102,7 +103,10 @@ fn legend(svg: &mut Svg) {
 /// row per parameter; the axis is logarithmic when they span a decade.
 fn std_error_figure(d: &Design) -> String {
     let names = &d.parts.columns;
-    let placed = &d.placed.relative_std_errors;
+    let placed = d
+        .placed
+        .as_ref()
+        .map_or(&[][..], |p| &p.relative_std_errors);
     let chosen = d.chosen.as_ref().map(|c| &c.prediction.relative_std_errors);
     let row_h = 26.0;
     let (label_w, bar_w, top) = (120.0, 520.0, 40.0);
@@ -137,12 +141,12 @@ fn std_error_figure(d: &Design) -> String {
         label_w,
         20.0,
         &format!(
-            "relative standard error, % ({} axis); blue: placed sensors{}",
+            "relative standard error, % ({} axis); {}",
             if log { "logarithmic" } else { "linear" },
-            if chosen.is_some() {
-                ", vermillion: with the chosen ones"
-            } else {
-                ""
+            match (d.placed.is_some(), chosen.is_some()) {
+                (true, true) => "blue: placed sensors, vermillion: with the chosen ones",
+                (true, false) => "blue: placed sensors",
+                (false, _) => "vermillion: the chosen sensors (none placed)",
             }
         ),
         Anchor::Start,
@@ -177,26 +181,7 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
          <h1>Experiment design: {t}</h1>\n",
         t = escape(title)
     );
-    let placed: Vec<String> = model.sensors.iter().map(|s| escape(&s.name)).collect();
-    let _ = writeln!(
-        out,
-        "<p>Predicted at the parameters' values with each sensor's <code>noise</code> as its σ \
-         (Cramér–Rao bound, eq. 26–29). Placed sensors: {}.</p>",
-        placed.join(", ")
-    );
-    if let Some(c) = &d.chosen {
-        let _ = writeln!(
-            out,
-            "<p>Chosen: <b>{}</b>. log det F rises from {:.3} to {:.3}; no set of {} exceeds {:.3} \
-             (convex relaxation), so the choice's D-efficiency is at least {:.4}.</p>",
-            c.names.iter().map(|n| escape(n)).collect::<Vec<_>>().join(", "),
-            d.placed.log_det,
-            c.prediction.log_det,
-            c.chosen.len(),
-            c.upper_bound,
-            c.efficiency_at_least
-        );
-    }
+    summary_html(&mut out, model, d);
     let rows: Vec<Vec<String>> = d
         .parts
         .columns
@@ -207,11 +192,10 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
                 v.filter(|v| v.is_finite())
                     .map_or("-".into(), |v| sig(100.0 * v, 3))
             };
-            let mut row = vec![
-                escape(n),
-                sig(d.parts.values[j], 4),
-                pct(d.placed.relative_std_errors.get(j)),
-            ];
+            let mut row = vec![escape(n), sig(d.parts.values[j], 4)];
+            if let Some(p) = &d.placed {
+                row.push(pct(p.relative_std_errors.get(j)));
+            }
             if let Some(c) = &d.chosen {
                 row.push(pct(c.prediction.relative_std_errors.get(j)));
             }
@@ -219,7 +203,10 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
         })
         .collect();
     warnings_html(&mut out, d);
-    let mut header = vec!["parameter", "value (SI)", "rel. s.e. placed, %"];
+    let mut header = vec!["parameter", "value (SI)"];
+    if d.placed.is_some() {
+        header.push("rel. s.e. placed, %");
+    }
     if d.chosen.is_some() {
         header.push("rel. s.e. chosen, %");
     }
@@ -240,10 +227,51 @@ fn page(model: &Model, d: &Design, title: &str) -> String {
     out
 }
 
+/// The paragraphs on what is predicted: the placed sensors (or none: the
+/// choice is then compared with no sensor), the chosen ones and the
+/// certificate.
+fn summary_html(out: &mut String, model: &Model, d: &Design) {
+    let placed: Vec<String> = model.sensors.iter().map(|s| escape(&s.name)).collect();
+    let _ = writeln!(
+        out,
+        "<p>Predicted at the parameters' values with each sensor's <code>noise</code> as its σ \
+         (Cramér–Rao bound, eq. 26–29). Placed sensors: {}.</p>",
+        match placed.is_empty() {
+            true =>
+                "none (every sensor is a candidate: the choice is compared with no sensor)".into(),
+            false => placed.join(", "),
+        }
+    );
+    if let Some(c) = &d.chosen {
+        let from = match &d.placed {
+            Some(p) => format!("rises from {:.3} to", p.log_det),
+            None => "is".into(),
+        };
+        let _ = writeln!(
+            out,
+            "<p>Chosen: <b>{}</b>. log det F {from} {:.3}; no set of {} exceeds {:.3} \
+             (convex relaxation), so the choice's D-efficiency is at least {:.4}.</p>",
+            c.names
+                .iter()
+                .map(|n| escape(n))
+                .collect::<Vec<_>>()
+                .join(", "),
+            c.prediction.log_det,
+            c.chosen.len(),
+            c.upper_bound,
+            c.efficiency_at_least
+        );
+    }
+}
+
 /// The predictions' warnings (and why there are no standard errors), as
 /// paragraphs.
 fn warnings_html(out: &mut String, d: &Design) {
-    for (what, p) in std::iter::once(("placed", &d.placed))
+    for (what, p) in d
+        .placed
+        .as_ref()
+        .map(|p| ("placed", p))
+        .into_iter()
         .chain(d.chosen.as_ref().map(|c| ("chosen", &c.prediction)))
     {
         for w in crate::design::predict::warning_texts(&d.parts.columns, p) {

@@ -28,8 +28,9 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
-/// Reads and checks a model file's text, section by section.
-pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
+/// Reads and checks a model file's text, section by section, for
+/// `purpose` (whether a placed sensor is needed).
+pub(super) fn build(text: &str, path: &Path, purpose: super::Purpose) -> Result<Model> {
     let mut ctx = new_ctx(text, path);
     let raw: RawFile = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
     // Parameters first, so that fields can name them.
@@ -37,7 +38,7 @@ pub(super) fn build(text: &str, path: &Path) -> Result<Model> {
     let bodies = bodies(&mut ctx, &raw)?;
     let elements = elements(&mut ctx, &raw, &bodies)?;
     let excitations = excitations(&mut ctx, &raw, &bodies)?;
-    let (sensors, candidates) = sensors(&mut ctx, &raw, &bodies)?;
+    let (sensors, candidates) = sensors(&mut ctx, &raw, &bodies, purpose)?;
     let sampling = sampling(&ctx, &raw)?;
     let gravity = gravity(&ctx, &raw)?;
     let parameters = finish_parameters(&ctx)?;

@@ -2,18 +2,22 @@
 use super::bodies::Bodies;
 use super::ctx::*;
 use crate::io::model_file::raw::*;
+use crate::io::model_file::Purpose;
 use crate::model::*;
 use crate::units::Dimension;
 use std::collections::HashMap;
 use toml::Spanned;
 
-/// Reads every `[[sensor]]`: the placed ones (a model needs at least one)
-/// and the candidates (`candidate = true`, SPEC §6). Names are unique over
-/// both.
+/// Reads every `[[sensor]]`: the placed ones and the candidates
+/// (`candidate = true`, SPEC §6). Names are unique over both. A model
+/// needs a sensor; read for a test's data ([`Purpose::Measure`]) it needs a
+/// placed one, while a design before the first test
+/// ([`Purpose::Design`]) may have candidates only.
 pub(super) fn sensors(
     ctx: &mut Ctx,
     raw: &RawFile,
     bodies: &Bodies,
+    purpose: Purpose,
 ) -> Result<(Vec<Sensor>, Vec<Sensor>)> {
     let (mut sensors, mut candidates) = (Vec::new(), Vec::new());
     let mut names = HashMap::new();
@@ -41,16 +45,16 @@ pub(super) fn sensors(
             sensors.push(read);
         }
     }
-    if sensors.is_empty() {
-        let what = if candidates.is_empty() {
-            "the model has no [[sensor]]: nothing to simulate or identify"
-        } else {
+    let what = match (sensors.is_empty(), candidates.is_empty(), purpose) {
+        (false, _, _) | (true, false, Purpose::Design) => return Ok((sensors, candidates)),
+        (true, true, _) => "the model has no [[sensor]]: nothing to simulate or identify",
+        (true, false, Purpose::Measure) => {
             "every [[sensor]] is a candidate: place at least one (a sensor without \
-             `candidate = true`), as the test has one at least"
-        };
-        return Err(ctx.err(None, "", "sensor", what));
-    }
-    Ok((sensors, candidates))
+             `candidate = true`), as the test has one at least (only `rfeid design \
+             --choose K` reads a model with candidates alone)"
+        }
+    };
+    Err(ctx.err(None, "", "sensor", what))
 }
 
 /// One `[[sensor]]`: name, body, point, direction, quantity, data, gain, offset.
