@@ -33,7 +33,7 @@
 //! would have asked for in vain.
 use super::run::{SampleView, Span};
 use super::simulator::Simulator;
-use super::steps::integrator;
+use super::integrator::integrator;
 use super::workspace::Workspace;
 use super::{SimulationError, MAX_SUBSTEPS};
 use crate::model::Model;
