@@ -31,9 +31,9 @@
 //! most the two runs up to the divergence, and spares the step choice its
 //! runs at 16, 64, 256 and 1000 steps per sample, which a smaller tolerance
 //! would have asked for in vain.
+use super::integrator::integrator;
 use super::run::{SampleView, Span};
 use super::simulator::Simulator;
-use super::integrator::integrator;
 use super::workspace::Workspace;
 use super::{SimulationError, MAX_SUBSTEPS};
 use crate::model::Model;
