@@ -1,6 +1,6 @@
 //! `design`: `rfeid design` from Python (SPEC §6): predicted standard
 //! errors of a planned test, and the D-optimal choice of candidate sensors.
-use super::errors::{model_error, option_error, option_text, simulation_error};
+use super::errors::{model_error, option_error, option_text, setting_error, simulation_error};
 use super::model::PyModel;
 use super::result::write_report;
 use super::watch::{watched, Counters};
@@ -67,8 +67,8 @@ pub fn design(
         false => option_text(e),
     })?;
     let mut values = model.model.nominal();
-    let notes =
-        set_values::apply_sets_to_campaign(&model.model, &set, &mut values).map_err(model_error)?;
+    let notes = set_values::apply_sets_to_campaign(&model.model, &set, &mut values)
+        .map_err(setting_error)?;
     let at = at_values(model.model.clone(), values).map_err(model_error)?;
     let cancel = Cancel::new();
     let settings = DesignSettings {

@@ -35,6 +35,13 @@ pub fn model_error(e: impl std::fmt::Display) -> PyErr {
     ModelError::new_err(e.to_string())
 }
 
+/// A setting of the model that cannot be used (`set`, `tolerance`,
+/// `substeps`: [`rfeid::model::set_values`]), its words spelt with the
+/// keywords ([`keyword_spelling`]: `set a_n9: …`, `tolerance=0e0: …`).
+pub fn setting_error(e: impl std::fmt::Display) -> PyErr {
+    ModelError::new_err(keyword_spelling(&e.to_string()))
+}
+
 /// Bad data.
 pub fn data_error(e: impl std::fmt::Display) -> PyErr {
     DataError::new_err(e.to_string())

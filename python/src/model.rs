@@ -1,9 +1,10 @@
 //! `Model`: a model file loaded and validated by the library, its
 //! parameters and sensors, and its simulation.
 use super::data::f64_bytes;
-use super::errors::{model_error, simulation_error};
+use super::errors::{model_error, setting_error, simulation_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use rfeid::identification::options::keyword_spelling;
 use rfeid::io::digest::file_digest;
 use rfeid::io::model_file::{load_model, parse_model};
 use rfeid::measurement::simulated::{simulate_record, NoiseSpec, SimulatedError};
@@ -209,9 +210,13 @@ impl PyModel {
                 self.model.for_experiment(e)
             }
         };
-        let model = set_values::stepped(base, tolerance, substeps).map_err(model_error)?;
+        let model = set_values::stepped(base, tolerance, substeps).map_err(setting_error)?;
         let mut params = model.nominal();
-        let warnings = set_values::apply_sets(&model, &set, &mut params).map_err(model_error)?;
+        let warnings: Vec<String> = set_values::apply_sets(&model, &set, &mut params)
+            .map_err(setting_error)?
+            .iter()
+            .map(|w| keyword_spelling(w))
+            .collect();
         let spec = noise.map(|fraction| NoiseSpec {
             fraction,
             corner: noise_corner,

@@ -2,7 +2,7 @@
 //! through the library, with the options of the command line.
 use super::data::{DataArg, Source};
 use super::errors::{
-    campaign_error, data_error, identify_error, model_error, option_error, prepare_error,
+    campaign_error, data_error, identify_error, option_error, prepare_error, setting_error,
 };
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
@@ -273,8 +273,8 @@ pub fn identify(
         }),
     )?;
     options.check().map_err(|e| option_error(&e))?;
-    let fixed = set_values::fixed(model.model.clone(), &set).map_err(model_error)?;
-    let edited = set_values::stepped(fixed, tolerance, substeps).map_err(model_error)?;
+    let fixed = set_values::fixed(model.model.clone(), &set).map_err(setting_error)?;
+    let edited = set_values::stepped(fixed, tolerance, substeps).map_err(setting_error)?;
     let label = model_label(model);
     let input = input(&edited, &label, data, experiments)?;
     let cancel = Cancel::new();

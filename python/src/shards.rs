@@ -5,6 +5,7 @@
 //! either side may write and the other merge.
 use super::errors::{
     data_error, failed, identify_error, model_error, option_error, prepare_error, py_error,
+    setting_error,
 };
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
@@ -97,7 +98,7 @@ fn shard_inputs(
         model_error("shard: the model must be loaded from a file (Model.load), which the shard records for merge")
     })?;
     let edited =
-        set_values::stepped(model.model.clone(), tolerance, substeps).map_err(model_error)?;
+        set_values::stepped(model.model.clone(), tolerance, substeps).map_err(setting_error)?;
     if !edited.experiments.is_empty() {
         return Err(model_error(format!(
             "{}: shards of a campaign ([[experiment]] entries) are not supported; run the campaign in one call",

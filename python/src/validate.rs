@@ -2,7 +2,7 @@
 //! data, as `rfeid validate --json` does) and an identification rebuilt
 //! from a RESULT.json with its model and data (`Identification.load`).
 use super::data::{DataArg, Source};
-use super::errors::{campaign_error, data_error, model_error, py_error};
+use super::errors::{campaign_error, data_error, model_error, py_error, setting_error};
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
 use pyo3::prelude::*;
@@ -21,7 +21,8 @@ fn parse_result(text: &str, label: &str) -> PyResult<IdentificationResult> {
 /// The model with the result's `set` values fixed, checked to be the
 /// result's model.
 fn model_of(model: &PyModel, result: &IdentificationResult, label: &str) -> PyResult<Model> {
-    let fixed = set_values::fixed(model.model.clone(), &result.source.set).map_err(model_error)?;
+    let fixed =
+        set_values::fixed(model.model.clone(), &result.source.set).map_err(setting_error)?;
     let model_label = model
         .path
         .as_ref()

@@ -223,3 +223,16 @@ def test_a_cancel_event_stops_a_run_in_another_thread(knee_column):
     assert out["stopped"] - set_at < 1.0
     with pytest.raises(TypeError, match="threading.Event"):
         rfeid.identify(m, df, plan=4, cancel=True)
+
+
+def test_setting_errors_name_the_keywords(knee_column):
+    """R2: a bad set, tolerance or substeps is a ModelError spelt with the
+    keywords, not the command line's flags."""
+    m = rfeid.Model.load(knee_column)
+    for kwargs, text in [({"set": {"a_n9": 1.0}}, r"^set: unknown parameter 'a_n9'"),
+                         ({"tolerance": 0.0}, r"^tolerance=0e0: "),
+                         ({"substeps": 0}, r"^substeps=0: ")]:
+        with pytest.raises(rfeid.ModelError, match=text):
+            m.simulate(**kwargs)
+    with pytest.warns(UserWarning, match=r"^set a_n1: the value lies outside its box"):
+        m.simulate(set={"a_n1": "700 daN/um^2"}, substeps=1)
