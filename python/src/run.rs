@@ -86,7 +86,7 @@ fn record_source(
 }
 
 /// The model as messages name it: its file, or `the model`.
-fn model_label(model: &PyModel) -> String {
+pub(crate) fn model_label(model: &PyModel) -> String {
     model
         .path
         .as_ref()
@@ -279,10 +279,7 @@ pub fn identify(
     let input = input(&edited, &label, data, experiments)?;
     let cancel = Cancel::new();
     let counters = Counters::default();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| super::errors::failed(format!("could not start the worker threads: {e}")))?;
+    let pool = super::shards::pool(threads)?;
     let searched = watched(py, &cancel, &counters, progress.as_ref(), || {
         pool.install(|| match input {
             Input::Single(source) => search(&edited, &source, &options, &cancel, &counters),

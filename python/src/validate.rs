@@ -5,6 +5,7 @@ use super::data::{DataArg, Source};
 use super::errors::{campaign_error, data_error, model_error, py_error, setting_error};
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
+use super::run::model_label;
 use pyo3::prelude::*;
 use rfeid::identification::campaign::read_campaign;
 use rfeid::identification::result::IdentificationResult;
@@ -23,10 +24,7 @@ fn parse_result(text: &str, label: &str) -> PyResult<IdentificationResult> {
 fn model_of(model: &PyModel, result: &IdentificationResult, label: &str) -> PyResult<Model> {
     let fixed =
         set_values::fixed(model.model.clone(), &result.source.set).map_err(setting_error)?;
-    let model_label = model
-        .path
-        .as_ref()
-        .map_or("the model".into(), |p| p.display().to_string());
+    let model_label = model_label(model);
     validation::check_belongs(&fixed, result, &model_label, label).map_err(model_error)?;
     Ok(fixed)
 }
@@ -50,10 +48,7 @@ pub fn validate(
     let result = parse_result(result, label)?;
     let fixed = model_of(model, &result, label)?;
     let source = data.map(|d| d.source()).transpose()?;
-    let model_label = model
-        .path
-        .as_ref()
-        .map_or("the model".into(), |p| p.display().to_string());
+    let model_label = model_label(model);
     let (json, notes) = py
         .detach(|| {
             let (cases, notes) = validation::cases(
@@ -90,10 +85,7 @@ pub fn load_result(
     let result = parse_result(result, label)?;
     let fixed = model_of(model, &result, label)?;
     let source = data.map(|d| d.source()).transpose()?;
-    let model_label = model
-        .path
-        .as_ref()
-        .map_or("the model".into(), |p| p.display().to_string());
+    let model_label = model_label(model);
     let (fitted, mut notes, title) = match &source {
         Some(s) => {
             let read = py.detach(|| s.measured(&fixed)).map_err(data_error)?;
