@@ -21,12 +21,9 @@ use rfeid::identification::shard::{check_together, evaluate_share, merge_shards}
 use rfeid::io::atomic::write_atomically;
 use rfeid::io::digest::input_digests;
 use rfeid::io::model_file::load_model;
-use rfeid::io::shard_file::{
-    read_shard, resolve, run_hash, shard_text, SearchSpec, ShardFile, FORMAT,
-};
+use rfeid::io::shard_file::{read_shard, resolve, run_hash, shard_text, SearchSpec, ShardFile};
 use rfeid::measurement::measured::measured_from_file;
 use rfeid::model::set_values;
-use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -36,39 +33,6 @@ pub(crate) fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
         .num_threads(threads.unwrap_or(0))
         .build()
         .map_err(|e| failed(format!("could not start the worker threads: {e}")))
-}
-
-/// The points an earlier run of this shard left in `output`, if it holds
-/// this shard of this run; a file of something else is refused.
-fn resumed(
-    output: &Path,
-    file: &mut ShardFile,
-) -> PyResult<BTreeMap<usize, rfeid::io::shard_file::PointRecord>> {
-    let mut done = BTreeMap::new();
-    if !output.exists() {
-        return Ok(done);
-    }
-    let refuse = |what: String| {
-        PyValueError::new_err(format!(
-            "output={}: {what}; remove it or choose another output",
-            output.display()
-        ))
-    };
-    let old = read_shard(output).map_err(|e| {
-        refuse(format!(
-            "exists and is not a shard file to resume ({})",
-            e.message
-        ))
-    })?;
-    if old.hash != file.hash || (old.shard, old.of) != (file.shard, file.of) {
-        return Err(refuse(format!(
-            "holds shard {}/{} of another run or another shard",
-            old.shard, old.of
-        )));
-    }
-    file.seconds = old.seconds;
-    done.extend(old.points.into_iter().map(|p| (p.index, p)));
-    Ok(done)
 }
 
 /// The checks of a shard's arguments before anything is computed: (K, N)
@@ -168,19 +132,10 @@ pub fn identify_shard(
     )?;
     let spec = SearchSpec::of(&options, tolerance, substeps);
     let hash = run_hash(&model_path, &edited, &data, &spec).map_err(data_error)?;
-    let mut file = ShardFile {
-        format: FORMAT.into(),
-        hash,
-        shard: k,
-        of: n,
-        search: spec,
-        model: model_path.display().to_string(),
-        data: data.display().to_string(),
-        seconds: 0.0,
-        complete: false,
-        points: Vec::new(),
-    };
-    let done = resumed(&output, &mut file)?;
+    let mut file = ShardFile::new(hash, (k, n), spec, &model_path, &data);
+    let done = file.resume(&output).map_err(|e| {
+        PyValueError::new_err(format!("output={e}; remove it or choose another output"))
+    })?;
     let (cancel, counters) = (Cancel::new(), Counters::default());
     let pool = pool(options.threads)?;
     watched(py, &cancel, &counters, None, || {
@@ -254,10 +209,7 @@ pub fn merge(
             data_path.display()
         )));
     }
-    let mut options = first
-        .search
-        .options(threads)
-        .map_err(|e| option_error(&e))?;
+    let mut options = first.search.options(threads);
     options.profiles = profiles.map(|parameters| ProfileRequest {
         parameters,
         points: profile_points,

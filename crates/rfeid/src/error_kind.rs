@@ -9,7 +9,7 @@ use crate::identification::pipeline::IdentifyError;
 use crate::identification::result::EstimateError;
 use crate::identification::shard::MergeError;
 use crate::identification::validation::ValidationError;
-use crate::io::shard_file::ShardError;
+use crate::io::shard_file::{ResumeError, ShardError};
 use crate::measurement::measured::MeasuredError;
 use crate::report::at_estimate::RenderError;
 use crate::simulation::SimulationError;
@@ -102,6 +102,13 @@ impl Kind for PrepareError {
 }
 
 impl Kind for MeasuredError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Data
+    }
+}
+
+impl Kind for ResumeError {
+    /// A file in the way of a shard's output is the input's fault.
     fn kind(&self) -> ErrorKind {
         ErrorKind::Data
     }

@@ -15,15 +15,15 @@ use crate::outputs::{Checked, Plan};
 use crate::run::closing::{close, Closing};
 use crate::run::digest::input_digests;
 use crate::run::failures::failure;
-use crate::run::inputs::{load, load_data, stepped};
+use crate::run::inputs::{load, load_data};
 use crate::run::report::render;
-use crate::run::search::prepare;
-use crate::run::shard_arg::{search_args, shard_failure};
+use crate::run::search::{prepare_options, profile_request};
+use crate::run::shard_arg::shard_failure;
 use crate::run::show::json_conflict;
 use crate::ui::Ui;
 use rfeid::identification::shard::{check_together, merge_shards, MergeError};
 use rfeid::io::shard_file::{read_shard, resolve, run_hash, ShardFile};
-use rfeid::model::Model;
+use rfeid::model::{set_values, Model};
 use std::path::{Path, PathBuf};
 
 /// Runs the command.
@@ -52,12 +52,11 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
         )));
     }
     let measured = load_data(&data_path, &model, ui)?;
-    let mut search = search_args(&first.search, args.threads, args.timings).map_err(|e| {
-        Failure::input_msg(format!("{}: search settings: {e}", first_path.display()))
-    })?;
-    search.profile = args.profile.clone();
-    let model = stepped(model, &search.steps)?;
-    let (problem, settings, progress) = prepare(&model, measured.clone(), &search, ui)?;
+    let mut options = first.search.options(args.threads);
+    options.profiles = profile_request(&args.profile);
+    let model = set_values::stepped(model, first.search.tolerance, first.search.substeps)
+        .map_err(Failure::input_msg)?;
+    let (problem, settings, progress) = prepare_options(&model, measured.clone(), &options, ui)?;
     progress.bar.finish_and_clear();
     let mut result = merge_shards(problem, &settings, &shards, &progress).map_err(merge_failure)?;
     progress.finish();

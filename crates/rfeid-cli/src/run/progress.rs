@@ -1,5 +1,4 @@
 //! The search's progress on standard error.
-use crate::cli::SearchArgs;
 use crate::ui::Ui;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rfeid::identification::pipeline::Progress;
@@ -16,8 +15,8 @@ pub struct Bars {
 
 impl Bars {
     /// The display for a search with `a`'s plan (hidden with `--quiet`).
-    pub fn new(a: &SearchArgs, ui: &Ui) -> Self {
-        let bar = ProgressBar::with_draw_target(Some(a.plan as u64), bar_target(ui));
+    pub fn new(plan: usize, ui: &Ui) -> Self {
+        let bar = ProgressBar::with_draw_target(Some(plan as u64), bar_target(ui));
         bar.set_style(
             ProgressStyle::with_template(
                 "{msg} [{bar:40}] {pos}/{len} points, {elapsed} (eta {eta})",

@@ -102,9 +102,7 @@ pub fn prepare<'m>(
     prepare_from(model, measured, a, StartArg::Plan, ui)
 }
 
-/// [`prepare`] for a search that starts at `start`: the library's
-/// [`options::prepare`] (which checks the options), with the worker
-/// threads started and the notes shown.
+/// [`prepare`] for a search that starts at `start`.
 fn prepare_from<'m>(
     model: &'m Model,
     measured: Response,
@@ -112,16 +110,26 @@ fn prepare_from<'m>(
     start: StartArg,
     ui: &Ui,
 ) -> Result<(OutputError<'m>, Settings, Bars), Failure> {
-    let o = options(a, start);
-    start_threads(a.threads)?;
-    let p = options::prepare(model, measured, &o, &Cancel::new()).map_err(prepare_failure)?;
+    prepare_options(model, measured, &options(a, start), ui)
+}
+
+/// The library's [`options::prepare`] of the options `o` (which checks
+/// them), with the worker threads started and the notes shown.
+pub fn prepare_options<'m>(
+    model: &'m Model,
+    measured: Response,
+    o: &SearchOptions,
+    ui: &Ui,
+) -> Result<(OutputError<'m>, Settings, Bars), Failure> {
+    start_threads(o.threads)?;
+    let p = options::prepare(model, measured, o, &Cancel::new()).map_err(prepare_failure)?;
     if let Some(w) = p.constant_warning() {
         ui.note(format!("warning: {w}"));
     }
     ui.note(search_steps_note(
         &p.problem.experiment_simulator(0).steps(),
     ));
-    Ok((p.problem, p.settings, Bars::new(a, ui)))
+    Ok((p.problem, p.settings, Bars::new(o.plan, ui)))
 }
 
 /// A run that could not be set up as a failure ([`failure`]): a problem of

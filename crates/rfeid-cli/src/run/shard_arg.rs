@@ -78,36 +78,6 @@ fn checked(k: usize, n: usize, text: &str) -> Result<(usize, usize), Failure> {
     Ok((k, n))
 }
 
-/// The search arguments of a shard file's settings, with the merging
-/// machine's `threads` and `--timings`.
-pub fn search_args(
-    spec: &rfeid::io::shard_file::SearchSpec,
-    threads: Option<usize>,
-    timings: bool,
-) -> Result<crate::cli::SearchArgs, String> {
-    use crate::cli::{MethodArg, NoiseModelArg, ProfileArgs, SearchArgs, StepArgs, WeightsArg};
-    use clap::ValueEnum;
-    Ok(SearchArgs {
-        plan: spec.plan,
-        starts: spec.starts,
-        method: MethodArg::from_str(&spec.method, false)?,
-        weights: Some(WeightsArg::from_str(&spec.weights, false)?),
-        noise_model: NoiseModelArg::from_str(&spec.noise_model, false)?,
-        threads,
-        from: spec.from,
-        timings,
-        steps: StepArgs {
-            tolerance: spec.tolerance,
-            substeps: spec.substeps,
-        },
-        window: spec.window,
-        // Memory, like the threads, is the merging machine's: its default.
-        jacobian_memory: None,
-        // Profiles do not change the plan: `merge` asks for them.
-        profile: ProfileArgs::default(),
-    })
-}
-
 /// A shard file refused: bad input naming the file.
 pub fn shard_failure(e: rfeid::io::shard_file::ShardError) -> Failure {
     Failure::input_msg(e)

@@ -4,14 +4,19 @@
 //! pipeline's [`Settings`] and criterion. The command line and the Python
 //! module both go through here, so the same options give the same run.
 use crate::identification::cancel::Cancel;
+pub use crate::identification::option_names::{
+    name_of, named, METHODS, NOISE_MODELS, STARTS, WEIGHTS,
+};
 use crate::identification::output_error::OutputError;
 use crate::identification::pipeline::{
     IdentifyError, Method, NoiseModel, ProfileRequest, Settings, Start, Weighting, DEFAULT_RESTARTS,
 };
+pub use crate::identification::pipeline::{DEFAULT_PLAN, DEFAULT_STARTS};
 use crate::identification::profile::{MAX_POINTS, MIN_POINTS};
 use crate::measurement::constant_sensors;
 use crate::model::Model;
 use crate::simulation::{Response, SimulationError, Simulator};
+use serde::{Deserialize, Serialize};
 
 /// Most plan points `plan` may ask for: a plan of 10⁶ points of a
 /// 1000-parameter model holds 8 GB of coordinates, so larger plans are a
@@ -22,10 +27,6 @@ pub const MAX_STARTS: usize = 1000;
 /// Most worker threads `threads` may ask for.
 pub const MAX_THREADS: usize = 1024;
 
-/// `plan` when not given: points of the LP_τ plan (eq. 18–19).
-pub const DEFAULT_PLAN: usize = 100;
-/// `starts` when not given: local searches from the best plan points.
-pub const DEFAULT_STARTS: usize = 1;
 /// `method` when not given: Levenberg–Marquardt.
 pub const DEFAULT_METHOD: Method = Method::Lm;
 /// `noise_model` when not given: autoregressive (`ar`).
@@ -55,57 +56,13 @@ pub const DEFAULT_WEIGHTS: Weighting = Weighting::EstimatedNoise;
 /// of 12 without; the knee–column in 12 of 12 either way, 0.4 s slower.
 pub const DEFAULT_WINDOW: f64 = 0.15;
 
-/// `method`'s values by name, as the command line, shard files and the
-/// Python module spell them.
-pub const METHODS: [(&str, Method); 2] = [("lm", Method::Lm), ("bfgs", Method::Bfgs)];
-/// `weights`' values by name.
-pub const WEIGHTS: [(&str, Weighting); 2] = [
-    ("equal", Weighting::Equal),
-    ("estimated", Weighting::EstimatedNoise),
-];
-/// `noise_model`'s values by name (`ar`: the default autoregressive model).
-pub const NOISE_MODELS: [(&str, NoiseModel); 2] = [
-    (
-        "ar",
-        NoiseModel::Autoregressive {
-            max_order: crate::identification::noise::DEFAULT_MAX_ORDER,
-        },
-    ),
-    ("white", NoiseModel::White),
-];
-/// `start`'s values by name.
-pub const STARTS: [(&str, Start); 2] = [("plan", Start::Plan), ("values", Start::Values)];
-
-/// The value named `value` among `choices` of option `option`; an unknown
-/// name lists the choices.
-pub fn named<T: Copy>(
-    option: &'static str,
-    value: &str,
-    choices: &[(&str, T)],
-) -> Result<T, OptionError> {
-    choices
-        .iter()
-        .find(|(n, _)| *n == value)
-        .map(|(_, v)| *v)
-        .ok_or_else(|| {
-            let names: Vec<&str> = choices.iter().map(|(n, _)| *n).collect();
-            OptionError::new(
-                option,
-                format!("'{value}': must be one of {}", names.join(", ")),
-            )
-        })
-}
-
-/// The name of `value` among `choices` (`""` if absent).
-pub fn name_of<T: PartialEq>(value: &T, choices: &[(&'static str, T)]) -> &'static str {
-    choices
-        .iter()
-        .find(|(_, v)| v == value)
-        .map_or("", |(n, _)| *n)
-}
-
-/// The options of one identification, named as on the command line.
-#[derive(Debug, Clone, PartialEq)]
+/// The options of one identification, named as the reference names them
+/// (`plan`, `noise_model`, …): the one record the command line's
+/// arguments, the Python module's keywords and shard files (as JSON, each
+/// choice by its name, every field optional) all convert into, checked by
+/// [`Self::check`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct SearchOptions {
     /// Points of the LP_τ plan (eq. 18–19), 1 to [`MAX_PLAN`]; default
     /// [`DEFAULT_PLAN`].
@@ -115,24 +72,36 @@ pub struct SearchOptions {
     /// The local search; default Levenberg–Marquardt.
     pub method: Method,
     /// Sensor weights; `None`: [`DEFAULT_WEIGHTS`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub weights: Option<Weighting>,
     /// The noise model with estimated weights; default autoregressive.
+    #[serde(with = "crate::identification::option_names::noise_model_name")]
     pub noise_model: NoiseModel,
     /// Worker threads; `None`: one per core. Results do not depend on it.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub threads: Option<usize>,
     /// The record before this time (s) is not fitted; default 0.
     pub from: f64,
     /// The fraction of the record each local search fits first, in [0, 1)
     /// (0: off); `None`: [`DEFAULT_WINDOW`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub window: Option<f64>,
     /// Where the local search starts; default the plan.
+    #[serde(skip_serializing_if = "is_default")]
     pub start: Start,
     /// MiB a whole Jacobian may take before it is taken block by block
     /// ([`Settings::jacobian_memory`]); `None`: [`DEFAULT_JACOBIAN_MIB`].
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub jacobian_memory: Option<usize>,
     /// Profile likelihoods after the bounds ([`Settings::profiles`]);
     /// `None`: none.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub profiles: Option<ProfileRequest>,
+}
+
+/// Whether `v` is its type's default (a field written only when set).
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
 }
 
 impl Default for SearchOptions {

@@ -8,13 +8,12 @@
 //! check that the shards belong together, not a protection against
 //! tampering), the shard's number, the search settings, the model and data
 //! paths, and J (or the failure) at every finished point.
-use crate::identification::options::{
-    name_of, named, OptionError, SearchOptions, DEFAULT_WEIGHTS, MAX_PLAN, MAX_STARTS, METHODS,
-    NOISE_MODELS, WEIGHTS,
-};
+use crate::identification::options::{SearchOptions, DEFAULT_WEIGHTS};
+use crate::identification::pipeline::Start;
 use crate::io::digest::{fnv1a, read_bytes, DigestError};
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A shard file that cannot be used: the file and what is wrong (the
@@ -40,71 +39,50 @@ impl ShardError {
 /// The format tag of a shard file.
 pub const FORMAT: &str = "rfeid-shard-1";
 
-/// `--noise-model` of a shard written before noise models existed.
-fn default_noise_model() -> String {
-    "ar".into()
-}
-
-/// The search settings a shard was computed with (all that changes J or
-/// the local searches; not the thread count).
+/// The search settings a shard was computed with: the run's options (all
+/// that changes J or the local searches; not the thread count, the memory
+/// or the profiles, which are the merging machine's) and the integrator's
+/// `tolerance` and `substeps` (the model's when absent). A shard written
+/// before noise models existed has no `noise_model`: `ar`, the default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SearchSpec {
-    /// `--plan`.
-    pub plan: usize,
-    /// `--starts`.
-    pub starts: usize,
-    /// `--method`.
-    pub method: String,
-    /// `--weights`.
-    pub weights: String,
-    /// `--noise-model` (absent in shards written before noise models: `ar`).
-    #[serde(default = "default_noise_model")]
-    pub noise_model: String,
-    /// `--from`, s.
-    pub from: f64,
-    /// `--tolerance`.
+    /// The options.
+    #[serde(flatten)]
+    pub options: SearchOptions,
+    /// `tolerance`.
     #[serde(default)]
     pub tolerance: Option<f64>,
-    /// `--substeps`.
+    /// `substeps`.
     #[serde(default)]
     pub substeps: Option<usize>,
-    /// `--window`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub window: Option<f64>,
 }
 
 impl SearchSpec {
     /// The settings of `o` with the integrator's `tolerance` and
-    /// `substeps` (the model's when `None`).
+    /// `substeps` (the model's when `None`): the weights resolved to their
+    /// default, the threads, memory and profiles left out.
     pub fn of(o: &SearchOptions, tolerance: Option<f64>, substeps: Option<usize>) -> Self {
         SearchSpec {
-            plan: o.plan,
-            starts: o.starts,
-            method: name_of(&o.method, &METHODS).into(),
-            weights: name_of(&o.weights.unwrap_or(DEFAULT_WEIGHTS), &WEIGHTS).into(),
-            noise_model: name_of(&o.noise_model, &NOISE_MODELS).into(),
-            from: o.from,
+            options: SearchOptions {
+                weights: Some(o.weights.unwrap_or(DEFAULT_WEIGHTS)),
+                threads: None,
+                jacobian_memory: None,
+                profiles: None,
+                ..o.clone()
+            },
             tolerance,
             substeps,
-            window: o.window,
         }
     }
 
     /// The search options of these settings with `threads`. Memory, like
     /// the threads, is the merging machine's (its default); profiles do not
     /// change the plan, so the merge asks for them.
-    pub fn options(&self, threads: Option<usize>) -> Result<SearchOptions, OptionError> {
-        Ok(SearchOptions {
-            plan: self.plan,
-            starts: self.starts,
-            method: named("method", &self.method, &METHODS)?,
-            weights: Some(named("weights", &self.weights, &WEIGHTS)?),
-            noise_model: named("noise_model", &self.noise_model, &NOISE_MODELS)?,
+    pub fn options(&self, threads: Option<usize>) -> SearchOptions {
+        SearchOptions {
             threads,
-            from: self.from,
-            window: self.window,
-            ..SearchOptions::default()
-        })
+            ..self.options.clone()
+        }
     }
 }
 
@@ -201,41 +179,128 @@ fn not_a_shard(path: &Path, field: &str, e: &serde_json::Error) -> ShardError {
     ShardError::new(path, format!("not an rfeid shard file: {at}{e}"))
 }
 
+/// A file at a shard's output that this shard cannot resume from. Each
+/// front end adds what to do (remove it, or write elsewhere).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ResumeError {
+    /// The file is not a shard file.
+    #[error("{}: exists and is not a shard file to resume ({})", .0.path.display(), .0.message)]
+    NotAShard(ShardError),
+    /// It holds a shard of another run.
+    #[error(
+        "{}: holds shard {}/{} of another run (the model, its tables, the data or the search \
+         settings differ: hash {hash}, this run's {this})",
+        path.display(), held.0, held.1
+    )]
+    OtherRun {
+        /// The file.
+        path: PathBuf,
+        /// The shard it holds, (K, N).
+        held: (usize, usize),
+        /// Its run's hash.
+        hash: String,
+        /// This run's hash.
+        this: String,
+    },
+    /// It holds another shard of this run.
+    #[error(
+        "{}: holds shard {}/{} of this run, not {}/{}",
+        path.display(), held.0, held.1, this.0, this.1
+    )]
+    OtherShard {
+        /// The file.
+        path: PathBuf,
+        /// The shard it holds, (K, N).
+        held: (usize, usize),
+        /// This shard, (K, N).
+        this: (usize, usize),
+    },
+}
+
 impl ShardFile {
+    /// Shard `k` of `n` of the run whose hash is `hash` ([`run_hash`]),
+    /// with its search settings and the model and data files as given;
+    /// no point done yet.
+    pub fn new(
+        hash: String,
+        (k, n): (usize, usize),
+        search: SearchSpec,
+        model: &Path,
+        data: &Path,
+    ) -> Self {
+        ShardFile {
+            format: FORMAT.into(),
+            hash,
+            shard: k,
+            of: n,
+            search,
+            model: model.display().to_string(),
+            data: data.display().to_string(),
+            seconds: 0.0,
+            complete: false,
+            points: Vec::new(),
+        }
+    }
+
+    /// The points an earlier run of this shard left in `output`, if there
+    /// is a file there, with its time added to this file's; a file that is
+    /// not this shard of this run is refused.
+    pub fn resume(&mut self, output: &Path) -> Result<BTreeMap<usize, PointRecord>, ResumeError> {
+        let mut done = BTreeMap::new();
+        if !output.exists() {
+            return Ok(done);
+        }
+        let old = read_shard(output).map_err(ResumeError::NotAShard)?;
+        let (path, held) = (output.to_path_buf(), (old.shard, old.of));
+        if old.hash != self.hash {
+            let (hash, this) = (old.hash, self.hash.clone());
+            return Err(ResumeError::OtherRun {
+                path,
+                held,
+                hash,
+                this,
+            });
+        }
+        if held != (self.shard, self.of) {
+            let this = (self.shard, self.of);
+            return Err(ResumeError::OtherShard { path, held, this });
+        }
+        self.seconds = old.seconds;
+        done.extend(old.points.into_iter().map(|p| (p.index, p)));
+        Ok(done)
+    }
+
     /// Checks what the file says before anything is sized by it (the hash
-    /// does not cover an edited file): the plan within `--plan`'s limits,
-    /// 1 ≤ N ≤ the plan's points, K < N, a finite time of at least 0, and
+    /// does not cover an edited file): the search options within their
+    /// limits ([`SearchOptions::check`]) and from the plan, 1 ≤ N ≤ the
+    /// plan's points, K < N, a finite time of at least 0, and
     /// each point in this shard's share with exactly one of a finite J ≥ 0
     /// and a failure. The field at fault and what is wrong otherwise.
-    fn validate(&self) -> Result<(), (&'static str, String)> {
-        let (plan, of) = (self.search.plan, self.of);
-        if !(1..=MAX_PLAN).contains(&plan) {
-            return Err(("search.plan", format!("is {plan}: must be 1 to {MAX_PLAN}")));
+    fn validate(&self) -> Result<(), (String, String)> {
+        let search = &self.search.options;
+        search
+            .check()
+            .map_err(|e| (format!("search.{}", e.option), format!("is {}", e.detail)))?;
+        if search.start != Start::Plan {
+            let what = "is 'values': a shard evaluates plan points, from which the searches start";
+            return Err(("search.start".into(), what.into()));
         }
-        if !(1..=MAX_STARTS.min(plan)).contains(&self.search.starts) {
-            return Err((
-                "search.starts",
-                format!(
-                    "is {}: must be 1 to the plan's {plan} points and at most {MAX_STARTS}",
-                    self.search.starts
-                ),
-            ));
-        }
+        let (plan, of) = (search.plan, self.of);
         if !(1..=plan).contains(&of) {
             return Err((
-                "of",
+                "of".into(),
                 format!("is {of}: must be 1 to the plan's {plan} points"),
             ));
         }
         if self.shard >= of {
             return Err((
-                "shard",
+                "shard".into(),
                 format!("is {}: must be below `of` ({of})", self.shard),
             ));
         }
         if !(self.seconds.is_finite() && self.seconds >= 0.0) {
             return Err((
-                "seconds",
+                "seconds".into(),
                 format!("is {}: must be a finite time of at least 0", self.seconds),
             ));
         }
@@ -243,20 +308,20 @@ impl ShardFile {
     }
 
     /// One point of [`Self::validate`].
-    fn check_point(&self, p: &PointRecord) -> Result<(), (&'static str, String)> {
-        if p.index >= self.search.plan || p.index % self.of != self.shard {
+    fn check_point(&self, p: &PointRecord) -> Result<(), (String, String)> {
+        if p.index >= self.search.options.plan || p.index % self.of != self.shard {
             return Err((
-                "points",
+                "points".into(),
                 format!(
                     "holds plan point {}, which is not in shard {}/{} of a plan of {} points",
-                    p.index, self.shard, self.of, self.search.plan
+                    p.index, self.shard, self.of, self.search.options.plan
                 ),
             ));
         }
         match (p.cost, &p.failure) {
             (Some(j), None) if j.is_finite() && j >= 0.0 => Ok(()),
             (Some(j), None) => Err((
-                "points",
+                "points".into(),
                 format!(
                     "gives plan point {} J = {j}: J is finite and at least 0",
                     p.index
@@ -264,7 +329,7 @@ impl ShardFile {
             )),
             (None, Some(_)) => Ok(()),
             (c, _) => Err((
-                "points",
+                "points".into(),
                 format!(
                     "gives plan point {} {} of `cost` and `failure`: exactly one is needed",
                     p.index,
@@ -277,7 +342,7 @@ impl ShardFile {
     /// What is missing from a shard that is not complete, or `None` when
     /// every point of its share is there once and it is marked complete.
     pub fn incomplete(&self) -> Option<String> {
-        let mine = share(self.shard, self.of, self.search.plan);
+        let mine = share(self.shard, self.of, self.search.options.plan);
         let mut have: Vec<usize> = self.points.iter().map(|p| p.index).collect();
         have.sort_unstable();
         if let Some(w) = have.windows(2).find(|w| w[0] == w[1]) {

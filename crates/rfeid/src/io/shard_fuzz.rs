@@ -6,6 +6,8 @@
 //! command line) naming the file and the field, or the line and column of
 //! JSON that does not parse.
 use super::shard_file::{parse_shard, PointRecord, SearchSpec, ShardFile, FORMAT};
+use crate::identification::options::SearchOptions;
+use crate::identification::pipeline::Weighting;
 use serde_json::Value;
 use std::path::Path;
 
@@ -34,15 +36,15 @@ fn valid() -> ShardFile {
         shard: 1,
         of: 3,
         search: SearchSpec {
-            plan: 10,
-            starts: 2,
-            method: "lm".into(),
-            weights: "estimated".into(),
-            noise_model: "ar".into(),
-            from: 0.0,
+            options: SearchOptions {
+                plan: 10,
+                starts: 2,
+                weights: Some(Weighting::EstimatedNoise),
+                window: Some(0.15),
+                ..SearchOptions::default()
+            },
             tolerance: Some(1e-7),
             substeps: None,
-            window: Some(0.15),
         },
         model: "model.toml".into(),
         data: "data.csv".into(),
@@ -192,7 +194,10 @@ fn ten_thousand_mutated_shard_files_are_refused_by_field_or_accepted() {
         match result {
             Ok(s) => {
                 // What is accepted is sound enough for merge to size by.
-                assert!(s.shard < s.of && s.of <= s.search.plan, "case {case}");
+                assert!(
+                    s.shard < s.of && s.of <= s.search.options.plan,
+                    "case {case}"
+                );
                 assert!(s.seconds.is_finite() && s.seconds >= 0.0, "case {case}");
                 accepted += 1;
             }

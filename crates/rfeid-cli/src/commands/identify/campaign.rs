@@ -89,7 +89,7 @@ fn fit(
             search_steps_note(steps)
         ));
     }
-    let progress = Bars::new(&args.search, ui);
+    let progress = Bars::new(args.search.plan, ui);
     let mut result =
         identify(prepared.problem, &prepared.settings, &progress).map_err(identify_failure)?;
     progress.finish();

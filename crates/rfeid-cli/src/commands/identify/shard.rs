@@ -11,9 +11,7 @@ use crate::run::search::{options, prepare};
 use crate::ui::Ui;
 use rfeid::identification::pipeline::plan;
 use rfeid::identification::shard::evaluate_share;
-use rfeid::io::shard_file::{
-    read_shard, run_hash, shard_text, share, PointRecord, SearchSpec, ShardFile, FORMAT,
-};
+use rfeid::io::shard_file::{run_hash, shard_text, share, SearchSpec, ShardFile};
 use rfeid::model::Model;
 use rfeid::simulation::Response;
 use std::collections::BTreeMap;
@@ -36,24 +34,14 @@ pub fn run(
     let a = &args.search;
     let spec = SearchSpec::of(&options(a, args.start), a.steps.tolerance, a.steps.substeps);
     let hash = run_hash(&args.model, model, data, &spec).map_err(Failure::input_msg)?;
-    let mut file = ShardFile {
-        format: FORMAT.into(),
-        hash,
-        shard: k,
-        of: n,
-        search: spec,
-        model: args.model.display().to_string(),
-        data: data.display().to_string(),
-        seconds: 0.0,
-        complete: false,
-        points: Vec::new(),
-    };
+    let mut file = ShardFile::new(hash, (k, n), spec, &args.model, data);
     // Only a regular file (or none yet) holds a shard to resume and takes
     // checkpoints: standard output, a FIFO or a device gets the file once.
     let resumable = args.output != Path::new("-")
         && std::fs::metadata(&args.output).map_or(true, |m| m.is_file());
     let mut done = if resumable {
-        resumed(&args.output, &mut file)?
+        file.resume(&args.output)
+            .map_err(|e| Failure::input_msg(format!("{e}; remove it or choose another -o")))?
     } else {
         BTreeMap::new()
     };
@@ -100,45 +88,6 @@ pub fn run(
         args.output.display()
     ));
     Ok(())
-}
-
-/// The points an earlier run of this shard left in `output`, if it exists,
-/// with its time added to `file`; a file of something else is refused.
-fn resumed(output: &Path, file: &mut ShardFile) -> Result<BTreeMap<usize, PointRecord>, Failure> {
-    let mut done = BTreeMap::new();
-    if !output.exists() {
-        return Ok(done);
-    }
-    let old = read_shard(output).map_err(|e| {
-        Failure::input_msg(format!(
-            "{}: exists and is not a shard file to resume ({}); remove it or choose another -o",
-            output.display(),
-            e.message
-        ))
-    })?;
-    if old.hash != file.hash {
-        return Err(Failure::input_msg(format!(
-            "{}: holds shard {}/{} of another run (the model, its tables, the data or the search settings differ: hash {}, this run's {}); remove it or choose another -o",
-            output.display(),
-            old.shard,
-            old.of,
-            old.hash,
-            file.hash
-        )));
-    }
-    if (old.shard, old.of) != (file.shard, file.of) {
-        return Err(Failure::input_msg(format!(
-            "{}: holds shard {}/{} of this run, not {}/{}; remove it or choose another -o",
-            output.display(),
-            old.shard,
-            old.of,
-            file.shard,
-            file.of
-        )));
-    }
-    file.seconds = old.seconds;
-    done.extend(old.points.into_iter().map(|p| (p.index, p)));
-    Ok(done)
 }
 
 /// Writes the shard file (`-o`) through the run's checked outputs.

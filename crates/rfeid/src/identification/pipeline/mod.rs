@@ -46,8 +46,8 @@ mod weights;
 pub use self::error::{IdentifyError, SearchError};
 pub use self::plan::{evaluate_points, plan, PointOutcome};
 pub use self::settings::{
-    Method, NoiseModel, ProfileRequest, Progress, Settings, Silent, Start, Weighting,
-    DEFAULT_RESTARTS,
+    Method, NoiseModel, ProfileRequest, Progress, Settings, Silent, Start, Weighting, DEFAULT_PLAN,
+    DEFAULT_RESTARTS, DEFAULT_STARTS,
 };
 pub use crate::identification::result::StartFailure;
 

@@ -34,8 +34,16 @@ pub enum Start {
     Values,
 }
 
-/// Settings of an identification.
-#[derive(Debug, Clone, Default)]
+/// `plan` when not given: points of the LP_τ plan (eq. 18–19).
+pub const DEFAULT_PLAN: usize = 100;
+/// `starts` when not given: local searches from the best plan points.
+pub const DEFAULT_STARTS: usize = 1;
+
+/// Settings of an identification. [`Settings::default`] is the paper's run
+/// ([`DEFAULT_PLAN`] plan points, one start, equal weights, no window, no
+/// restarts); `rfeid identify`'s defaults are
+/// [`crate::identification::options::SearchOptions`]'.
+#[derive(Debug, Clone)]
 pub struct Settings {
     /// N_p, plan points (≥ 1).
     pub plan_points: usize,
@@ -79,6 +87,27 @@ pub struct Settings {
     /// Profile likelihoods of these parameters after the bounds
     /// ([`crate::identification::profile`]); `None`: none.
     pub profiles: Option<ProfileRequest>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            plan_points: DEFAULT_PLAN,
+            starts: DEFAULT_STARTS,
+            method: Method::default(),
+            weighting: Weighting::default(),
+            noise_model: NoiseModel::default(),
+            lm: LmSettings::default(),
+            bfgs: BfgsSettings::default(),
+            uncertainty: UncertaintySettings::default(),
+            verdict: VerdictSettings::default(),
+            window: None,
+            start: Start::default(),
+            restarts: 0,
+            jacobian_memory: None,
+            profiles: None,
+        }
+    }
 }
 
 /// The automatic restarts of `rfeid identify` ([`Settings::restarts`]).

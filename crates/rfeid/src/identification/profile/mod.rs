@@ -56,7 +56,8 @@ pub fn threshold() -> f64 {
 }
 
 /// Which parameters to profile, and on how many points.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ProfileRequest {
     /// Identified parameters by name (as RESULT.json names them, e.g.
     /// `a_n4` or `k[low]`); empty: every identified parameter.
