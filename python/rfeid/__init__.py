@@ -1324,7 +1324,7 @@ class Frf:
 
 
 def design(
-    model: Model,
+    model: Union[Model, PathLike],
     *,
     set: SetValues = None,
     choose: Optional[int] = None,
@@ -1346,16 +1346,27 @@ def design(
     points of the box (needs ``choose``); ``threads``: worker threads (all
     cores).
 
+    ``model`` is a :class:`Model`, or the path of a model file: a file is
+    read for the design, so before a first test its sensors may all be
+    candidates (``candidate = true``), which :meth:`Model.load` refuses;
+    ``choose=K`` then chooses all K and compares them with no sensor.
+
     Raises ``ValueError`` for ``choose=0``, ``threads`` outside 1 to 1024
     or ``over_box`` without ``choose``, ``TypeError`` naming the keyword for
     a value of the wrong type (``choose=True``, ``threads=2.0``), :class:`ModelError` for a model without candidate sensors
     (with ``choose``) or a ``set`` value outside its box. Ctrl-C raises
     ``KeyboardInterrupt`` within about a second.
     """
-    if not isinstance(model, Model):
-        raise TypeError(f"model: expected rfeid.Model, not {type(model).__name__}")
+    if isinstance(model, (str, os.PathLike)):
+        native_model = _rfeid.Model.load_for_design(os.fspath(model))
+    elif isinstance(model, Model):
+        native_model = model._native
+    else:
+        raise TypeError(
+            f"model: expected rfeid.Model or a path, not {type(model).__name__}"
+        )
     native, notes = _rfeid.design(
-        model._native,
+        native_model,
         set=_set_list(set),
         choose=_int("choose", choose, True),
         over_box=_int("over_box", over_box, True),

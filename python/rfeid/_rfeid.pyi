@@ -27,6 +27,10 @@ class Model:
         """Loads a model file (TOML, SPEC §1); returns the model. Raises
         ModelError naming the file, entry and field of a problem."""
     @staticmethod
+    def load_for_design(path: Union[str, "os.PathLike[str]"]) -> "Model":
+        """Loads a model file for a design: its sensors may all be
+        candidates (before a first test)."""
+    @staticmethod
     def from_toml(text: str, base_dir: Optional[Union[str, "os.PathLike[str]"]] = None) -> "Model":
         """A model from the text of a model file; relative paths in it
         (signal tables) are found from ``base_dir`` (default: the current

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use rfeid::identification::options::keyword_spelling;
 use rfeid::io::digest::file_digest;
-use rfeid::io::model_file::{load_model, parse_model};
+use rfeid::io::model_file::{load_model_for, parse_model, Purpose};
 use rfeid::measurement::simulated::{simulate_record, NoiseSpec, SimulatedError};
 use rfeid::model::{set_values, Model};
 use std::path::PathBuf;
@@ -33,14 +33,11 @@ pub struct PyModel {
     pub digests: Option<(String, Vec<String>)>,
 }
 
-#[pymethods]
 impl PyModel {
-    /// Loads a model file (TOML; docs/reference/model-file.md) and returns
-    /// the Model. Raises ModelError naming the file, entry and field (a
-    /// missing file too).
-    #[staticmethod]
-    fn load(path: PathBuf) -> PyResult<Self> {
-        let model = load_model(&path).map_err(model_error)?;
+    /// [`PyModel::load`] for `purpose`, with the digests of the file and
+    /// its tables.
+    fn load_for(path: PathBuf, purpose: Purpose) -> PyResult<Self> {
+        let model = load_model_for(&path, purpose).map_err(model_error)?;
         let tables = model.files.iter().map(|f| file_digest(f));
         let digests = (
             file_digest(&path).map_err(model_error)?,
@@ -51,6 +48,24 @@ impl PyModel {
             path: Some(path),
             digests: Some(digests),
         })
+    }
+}
+
+#[pymethods]
+impl PyModel {
+    /// Loads a model file (TOML; docs/reference/model-file.md) and returns
+    /// the Model. Raises ModelError naming the file, entry and field (a
+    /// missing file too).
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        Self::load_for(path, Purpose::Measure)
+    }
+
+    /// Loads a model file for a design (`rfeid.design(path, …)`): its
+    /// sensors may all be candidates, before a first test.
+    #[staticmethod]
+    fn load_for_design(path: PathBuf) -> PyResult<Self> {
+        Self::load_for(path, Purpose::Design)
     }
 
     /// A model from the text of a model file; relative paths in it (signal

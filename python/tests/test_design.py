@@ -1,5 +1,6 @@
 """`rfeid.design` against `rfeid design -o`."""
 import json
+from pathlib import Path
 
 import pytest
 
@@ -18,6 +19,26 @@ def test_design_equals_the_command_lines_document(tmp_path, rfeid_cli, knee_colu
         assert se <= d.placed_std_errors[name] * (1 + 1e-12)
     assert d.report(tmp_path / "r").endswith("report.html")
     assert "chosen" in repr(d)
+
+
+def test_a_design_before_the_first_test_reads_the_file_itself(tmp_path, rfeid_cli, knee_column):
+    # Every sensor a candidate: Model.load refuses the file (there is
+    # nothing to measure), rfeid.design(path) chooses all three, as the
+    # command line does.
+    text = Path(knee_column).read_text()
+    unplaced = text.replace("(2 % of its RMS): for `rfeid design`", "\ncandidate = true")
+    assert unplaced.count("candidate = true") == 24
+    path = tmp_path / "unplaced.toml"
+    path.write_text(unplaced)
+    with pytest.raises(rfeid.ModelError, match="every \\[\\[sensor\\]\\] is a candidate"):
+        rfeid.Model.load(path)
+    d = rfeid.design(path, choose=3)
+    out = tmp_path / "design.json"
+    rfeid_cli("design", path, "--choose", "3", "-o", out, "-q")
+    assert d.document == json.loads(out.read_text())
+    assert len(d.chosen) == 3 and d.document["compared_with"] == "no_sensor"
+    with pytest.raises(TypeError, match="rfeid.Model or a path"):
+        rfeid.design(3, choose=3)
 
 
 def test_design_requests_are_checked(knee_column):

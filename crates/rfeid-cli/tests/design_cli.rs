@@ -271,6 +271,8 @@ fn design_mistakes_exit_2_naming_file_entry_and_field() {
             .unwrap();
         let msg = flat(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "case {k}: {msg}");
+        // Refused, not warned about and then refused.
+        assert!(!msg.contains("warning"), "case {k}: {msg}");
         for s in says {
             assert!(msg.contains(s), "case {k}: '{s}' not in: {msg}");
         }

@@ -93,8 +93,62 @@ fn a_candidate_at_a_placed_sensor_carries_its_information() {
     alone.sensors = vec![model.sensors[1].clone()];
     alone.candidates.clear();
     let single = fisher_parts(&alone, &alone.nominal()).unwrap();
-    let diff = (&parts.candidate(0) - single.placed()).abs().max();
-    assert!(diff <= 1e-9 * single.placed().abs().max(), "{diff:e}");
+    // Each in units of its own σ₀²: the information itself is F·σ₀² / σ₀².
+    let twin = parts.candidate(0) / parts.noise_scale.powi(2);
+    let own = single.placed() / single.noise_scale.powi(2);
+    let diff = (&twin - &own).abs().max();
+    assert!(diff <= 1e-9 * own.abs().max(), "{diff:e}");
+}
+
+/// Every sensor's noise 10¹⁵⁰ times larger (or smaller) scales every
+/// predicted standard error by exactly that and shifts log det F by
+/// −2r·ln 10¹⁵⁰, leaving the correlations, the condition number and the
+/// choice (only the box warnings follow the standard errors): the
+/// shares are held in units of the common noise, so nothing underflows
+/// (1/σ² alone would be 10⁻³⁰⁰).
+#[test]
+fn scaling_every_noise_scales_every_standard_error() {
+    let model = knee_column();
+    let settings = DesignSettings {
+        choose: Some(2),
+        ..Default::default()
+    };
+    let base = design(&model, &settings, &|| {}).unwrap();
+    for factor in [1e150, 1e-150] {
+        let mut scaled = model.clone();
+        for s in scaled.sensors.iter_mut().chain(&mut scaled.candidates) {
+            s.noise = s.noise.map(|n| n * factor);
+        }
+        let d = design(&scaled, &settings, &|| {}).unwrap();
+        let (c0, c) = (base.chosen.as_ref().unwrap(), d.chosen.as_ref().unwrap());
+        assert_eq!(c.chosen, c0.chosen);
+        let r = base.parts.columns.len() as f64;
+        for (p0, p) in [(base.placed.as_ref().unwrap(), d.placed.as_ref().unwrap())]
+            .into_iter()
+            .chain([(&c0.prediction, &c.prediction)])
+        {
+            assert_eq!(p.std_errors.len(), r as usize);
+            for (se0, se) in p0.std_errors.iter().zip(&p.std_errors) {
+                assert!(
+                    (se / (se0 * factor) - 1.0).abs() < 1e-9,
+                    "{se:e} vs {se0:e}"
+                );
+            }
+            let shift = -2.0 * r * factor.ln();
+            assert!((p.log_det - p0.log_det - shift).abs() < 1e-9 * shift.abs());
+            let cond = (p.condition_number.unwrap(), p0.condition_number.unwrap());
+            assert!((cond.0 / cond.1 - 1.0).abs() < 1e-9);
+            for (row0, row) in p0.correlation.iter().zip(&p.correlation) {
+                for (r0, r) in row0.iter().zip(row) {
+                    assert!((r - r0).abs() < 1e-9, "{r} vs {r0}");
+                }
+            }
+        }
+        // The relaxation's bound stops within 1e-9·|bound| of its optimum
+        // (`bound.rs`), so the certificate agrees to that over r.
+        let eff = (c.efficiency_at_least, c0.efficiency_at_least);
+        assert!((eff.0 / eff.1 - 1.0).abs() < 1e-7, "{eff:?}");
+    }
 }
 
 #[test]
@@ -246,7 +300,8 @@ fn candidates_read_through_a_body_basis_equal_their_own_simulation() {
 /// reason names both, as `identify` would.
 #[test]
 fn a_singular_design_names_the_parameters_it_cannot_tell_apart() {
-    use rfeid::identification::uncertainty::{cramer_rao_fisher, UncertaintyError};
+    use rfeid::design::fisher_bound::cramer_rao_fisher;
+    use rfeid::identification::uncertainty::UncertaintyError;
     let j = DMatrix::from_row_slice(
         4,
         3,
@@ -258,8 +313,15 @@ fn a_singular_design_names_the_parameters_it_cannot_tell_apart() {
         ],
     );
     let f = j.transpose() * &j;
-    let e = cramer_rao_fisher(&f, 4, &[1.0; 3], &[1.0; 3], &UncertaintySettings::default())
-        .unwrap_err();
+    let e = cramer_rao_fisher(
+        &f,
+        4,
+        &[1.0; 3],
+        &[1.0; 3],
+        1.0,
+        &UncertaintySettings::default(),
+    )
+    .unwrap_err();
     match e {
         UncertaintyError::Singular { parameters, .. } => assert_eq!(parameters, vec![1, 2]),
         other => panic!("{other}"),
@@ -272,6 +334,7 @@ fn a_singular_design_names_the_parameters_it_cannot_tell_apart() {
         4,
         &[1.0; 3],
         &[1.0; 3],
+        1.0,
         &UncertaintySettings::default(),
     )
     .unwrap();
@@ -398,4 +461,64 @@ fn a_model_with_candidates_alone_needs_design_and_choose() {
     assert_eq!(e, DesignError::NoPlacedSensor);
     let e = rfeid::design::json::check_request(&model, "unplaced.toml", None, None).unwrap_err();
     assert!(e.of_model() && e.to_string().contains("--choose K"), "{e}");
+}
+
+/// A chosen candidate on a body no force reaches (held to the ground on
+/// its own) carries no information: the choice says so rather than
+/// reporting it as a full gain.
+#[test]
+fn a_chosen_candidate_that_carries_nothing_is_named() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml");
+    let text = std::fs::read_to_string(&path).unwrap()
+        + r#"
+[[body]]
+name = "still"
+mass = "10 kg"
+inertia = [1.0, 1.0, 1.0]
+com = [2.0, 0.0, 0.5]
+
+[[element]]
+name = "still_pad"
+body = "still"
+to = "ground"
+at = [2.0, 0.0, 0.5]
+ux = { k = "1e7 N/m", c = "1e3 N*s/m" }
+uy = { k = "1e7 N/m", c = "1e3 N*s/m" }
+uz = { k = "1e7 N/m", c = "1e3 N*s/m" }
+rx = { k = "1e6 N*m/rad", c = "10 N*m*s/rad" }
+ry = { k = "1e6 N*m/rad", c = "10 N*m*s/rad" }
+rz = { k = "1e6 N*m/rad", c = "10 N*m*s/rad" }
+
+[[sensor]]
+name = "still"
+body = "still"
+at = [2.0, 0.0, 0.5]
+direction = [1, 0, 0]
+quantity = "acceleration"
+noise = "1.0e-3 m/s^2"
+candidate = true
+"#;
+    let mut model = parse_model(&text, &path).unwrap();
+    let keep = ["k1x", "still"];
+    model.candidates.retain(|c| keep.contains(&c.name.as_str()));
+    let settings = DesignSettings {
+        choose: Some(2),
+        ..Default::default()
+    };
+    let d = design(&model, &settings, &|| {}).unwrap();
+    let c = d.chosen.as_ref().unwrap();
+    let still = model.candidates.iter().position(|c| c.name == "still");
+    assert_eq!(c.uninformative, vec![still.unwrap()]);
+    let texts = c.warning_texts(&d.parts.columns);
+    assert!(texts
+        .iter()
+        .any(|t| t.contains("candidate still carries no information")));
+    // One informative candidate alone names nothing.
+    model.candidates.retain(|c| c.name == "k1x");
+    let settings = DesignSettings {
+        choose: Some(1),
+        ..Default::default()
+    };
+    let d = design(&model, &settings, &|| {}).unwrap();
+    assert!(d.chosen.unwrap().uninformative.is_empty());
 }

@@ -11,6 +11,15 @@ use rfeid::design::predict::{warning_texts, Prediction};
 use rfeid::design::{ChosenSet, Design};
 use rfeid::model::Model;
 
+/// A percentage with three decimals, or in e-notation from 10⁶ % on (a
+/// standard error 10⁴ times the value and beyond).
+fn percent(p: f64) -> String {
+    match p.abs() < 1e6 {
+        true => format!("{p:.3}"),
+        false => format!("{p:.3e}"),
+    }
+}
+
 /// The table of predicted standard errors: placed (if any are), and
 /// chosen, with their ratio when both are there.
 fn parameter_table(model: &Model, d: &Design) -> String {
@@ -24,7 +33,7 @@ fn parameter_table(model: &Model, d: &Design) -> String {
             let p = parameter(model, name);
             let shown = |v: f64| sig(v / p.unit.scale, 4);
             let se = |pr: &Prediction| match (pr.std_errors.get(j), pr.relative_std_errors.get(j)) {
-                (Some(s), Some(r)) if r.is_finite() => [shown(*s), format!("{:.3}", 100.0 * r)],
+                (Some(s), Some(r)) if r.is_finite() => [shown(*s), percent(100.0 * r)],
                 (Some(s), _) => [shown(*s), "-".into()],
                 _ => ["-".into(), "-".into()],
             };
@@ -167,7 +176,7 @@ fn print_choice(d: &Design, c: &ChosenSet) {
         c.upper_bound,
         c.efficiency_at_least
     );
-    for w in warning_texts(&d.parts.columns, &c.prediction) {
+    for w in c.warning_texts(&d.parts.columns) {
         println!("  warning (chosen): {w}");
     }
 }

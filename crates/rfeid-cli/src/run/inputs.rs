@@ -50,17 +50,18 @@ pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<
     Ok(())
 }
 
-/// [`apply_sets`] for `design`, which runs every experiment of a campaign:
-/// a parameter an experiment sets is refused too
-/// ([`set_values::apply_sets_to_campaign`]).
+/// `--set` for `design`, which runs every experiment of a campaign: a
+/// parameter an experiment sets is refused too
+/// ([`set_values::apply_sets_to_campaign`]). Nothing is warned: a value
+/// outside its box, which other commands warn about, is refused by the
+/// design itself ([`rfeid::design::json::at_values`]).
 pub fn apply_campaign_sets(
     model: &Model,
     sets: &[String],
     params: &mut [f64],
 ) -> Result<(), Failure> {
-    set_values::apply_sets_to_campaign(model, sets, &mut params.to_vec())
-        .map_err(Failure::input_msg)?;
-    apply_sets(model, sets, params)
+    set_values::apply_sets_to_campaign(model, sets, params).map_err(Failure::input_msg)?;
+    Ok(())
 }
 
 /// The model with parameters fixed for one run (`identify --set

@@ -127,11 +127,14 @@ pub fn layout(model: &Model, basis: bool) -> Layout {
 }
 
 /// A group's members' information from its basis rows `blocks[k]`
-/// (unweighted): `Σ_kl c_k c_l B_kᵀB_l / σ²`, in the group's member order.
+/// (unweighted), in units of the common noise variance σ₀²
+/// ([`super::fisher::FisherParts::noise_scale`]): `Σ_kl c_k c_l B_kᵀB_l
+/// (σ₀/σ)²`, in the group's member order.
 pub fn member_shares(
     model: &Model,
     g: &Group,
     blocks: &[nalgebra::DMatrixView<f64>],
+    noise_scale: f64,
 ) -> Vec<(usize, DMatrix<f64>)> {
     let r = blocks[0].ncols();
     let mut t = vec![DMatrix::zeros(r, r); 36];
@@ -145,7 +148,9 @@ pub fn member_shares(
     g.members
         .iter()
         .map(|&(i, c)| {
-            let w = model.candidates[i].noise.map_or(0.0, |s| s.powi(-2));
+            let w = model.candidates[i]
+                .noise
+                .map_or(0.0, |s| (noise_scale / s).powi(2));
             let mut f = DMatrix::zeros(r, r);
             for k in 0..6 {
                 for l in 0..6 {

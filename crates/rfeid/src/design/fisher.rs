@@ -8,6 +8,13 @@
 //! the Cramér–Rao bound. F is a sum over sensors (and over a campaign's
 //! fitted experiments), so each sensor's share `F_c = Σ_k h_ckᵀh_ck / σ_c²`
 //! is computed once and any set of sensors is a sum of shares.
+//!
+//! The shares are held in units of a common noise variance σ₀² (the
+//! geometric mean of the sensors' σ², [`FisherParts::noise_scale`]):
+//! `F·σ₀² = Σ_c h_cᵀh_c (σ₀/σ_c)²`. Only the ratios of the sensors' noise
+//! then enter the sums, so a noise of 10⁻¹⁵⁰ or 10¹⁵⁰ (in any unit) neither
+//! underflows nor overflows, and scaling every σ by a factor scales every
+//! predicted standard error by it exactly.
 use super::basis::{layout, member_shares, Layout};
 use super::DesignError;
 use crate::identification::output_error::{ExperimentData, OutputError};
@@ -45,6 +52,10 @@ pub struct FisherParts {
     pub scale: Vec<f64>,
     /// Their boxes' widths `x_max − x_min`.
     pub widths: Vec<f64>,
+    /// σ₀, the common noise scale: every Fisher matrix here is `F·σ₀²`
+    /// (the module's note), so `log det F = log det(F·σ₀²) − r ln σ₀²` and
+    /// the covariance is `σ₀² (F·σ₀²)⁻¹`.
+    pub noise_scale: f64,
     /// Each fitted experiment's shares.
     pub experiments: Vec<ExperimentFisher>,
 }
@@ -64,6 +75,12 @@ impl FisherParts {
         self.experiments
             .iter()
             .fold(DMatrix::zeros(r, r), |f, e| f + &e.candidates[i])
+    }
+
+    /// `log det F − log det(F·σ₀²) = −r ln σ₀²`: what turns the log det
+    /// of a matrix here into the log det of the information itself.
+    pub fn log_det_shift(&self) -> f64 {
+        -(self.columns.len() as f64) * self.noise_scale.powi(2).ln()
     }
 
     /// Every candidate's information, all experiments.
@@ -89,6 +106,16 @@ fn noise_of(s: &Sensor, candidate: bool) -> Result<f64, DesignError> {
         candidate,
         unit: s.kind.unit().to_string(),
     })
+}
+
+/// σ₀: the geometric mean of the noises `sigmas` (each positive, with σ²
+/// and 1/σ² finite, as the model file's rule has them), 1 if there are
+/// none.
+fn common_scale(sigmas: &[f64]) -> f64 {
+    match sigmas.len() {
+        0 => 1.0,
+        n => (sigmas.iter().map(|s| s.ln()).sum::<f64>() / n as f64).exp(),
+    }
 }
 
 /// The model as each fitted experiment sees it (the model itself without
@@ -145,11 +172,28 @@ pub fn fisher_parts_with(
     if models.is_empty() {
         return Err(DesignError::NoFittedExperiment);
     }
+    // σ₀ from the placed sensors (each experiment's) and the candidates;
+    // placed sensors and direct candidates weighted by (σ₀/σ)², a basis
+    // (unit noise, read by its members) by 1 and its members by (σ₀/σ)²
+    // in `member_shares`.
+    let mut sigmas = Vec::new();
+    for (_, m, _) in &models {
+        for s in &m.sensors[..m.sensors.len() - extra.len()] {
+            sigmas.push(noise_of(s, false)?);
+        }
+    }
+    sigmas.extend(model.candidates.iter().filter_map(|c| c.noise));
+    let noise_scale = common_scale(&sigmas);
     let mut weights = Vec::new();
     for (_, m, _) in &models {
-        let n_placed = m.sensors.len() - extra.len();
+        let weighted = m.sensors.len() - extra.len() + layout.direct.len();
         for (c, s) in m.sensors.iter().enumerate() {
-            weights.push(noise_of(s, c >= n_placed)?.powi(-2));
+            let sigma = noise_of(s, c >= weighted)?;
+            weights.push(if c < weighted {
+                (noise_scale / sigma).powi(2)
+            } else {
+                1.0
+            });
         }
     }
     let parts = models
@@ -196,12 +240,13 @@ pub fn fisher_parts_with(
         let f = scale[j] / d;
         jac.column_mut(j).iter_mut().for_each(|v| *v *= f);
     }
-    let experiments = shares(model, &problem, &jac, &layout, extra.len());
+    let experiments = shares(model, &problem, &jac, &layout, extra.len(), noise_scale);
     Ok(FisherParts {
         columns,
         values,
         scale,
         widths,
+        noise_scale,
         experiments,
     })
 }
@@ -216,6 +261,7 @@ fn shares(
     jac: &DMatrix<f64>,
     layout: &Layout,
     n_extra: usize,
+    noise_scale: f64,
 ) -> Vec<ExperimentFisher> {
     let r = jac.ncols();
     let mut row = 0;
@@ -241,7 +287,7 @@ fn shares(
             }
             for g in &layout.groups {
                 let blocks: Vec<_> = (0..6).map(|_| block(&mut row)).collect();
-                for (i, f) in member_shares(model, g, &blocks) {
+                for (i, f) in member_shares(model, g, &blocks, noise_scale) {
                     candidates[i] = f;
                 }
             }

@@ -160,6 +160,7 @@ pub fn design_json(model: &Model, d: &Design) -> Value {
     );
     obj.insert("placed".into(), json!(placed));
     if let Some(c) = &d.chosen {
+        obj.insert("warnings".into(), json!(c.warning_texts(&d.parts.columns)));
         obj.insert(
             "choice".into(),
             json!({

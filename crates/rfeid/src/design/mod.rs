@@ -14,6 +14,7 @@ pub mod basis;
 pub mod bound;
 pub mod choose;
 pub mod fisher;
+pub mod fisher_bound;
 pub mod json;
 pub mod over_box;
 pub mod predict;
@@ -130,6 +131,26 @@ pub struct ChosenSet {
     pub upper_bound: f64,
     /// The D-efficiency the choice is guaranteed: `exp((log det − bound)/r)`.
     pub efficiency_at_least: f64,
+    /// Chosen candidates (indices) that carry no information: their
+    /// readings do not depend on the parameters (a body no force reaches),
+    /// so a smaller set does as well.
+    pub uninformative: Vec<usize>,
+}
+
+impl ChosenSet {
+    /// The chosen set's warnings in words: its prediction's
+    /// ([`predict::warning_texts`]) and one per chosen candidate that
+    /// carries no information.
+    pub fn warning_texts(&self, columns: &[String]) -> Vec<String> {
+        let mut out = predict::warning_texts(columns, &self.prediction);
+        out.extend(self.uninformative.iter().map(|&i| {
+            let name = &self.names[self.chosen.iter().position(|&c| c == i).unwrap_or(0)];
+            format!(
+                "the chosen candidate {name} carries no information on the parameters (its readings do not depend on them): fewer sensors do as well"
+            )
+        }));
+        out
+    }
 }
 
 /// One fitted experiment's worth in a campaign.
@@ -254,10 +275,21 @@ fn chosen_set(
     let (k, r) = (chosen.len(), parts.columns.len());
     let f = chosen.iter().fold(placed_f.clone(), |m, &i| m + &cand[i]);
     let prediction = predict(parts, &f, chosen.len(), &settings.uncertainty);
-    let upper_bound = bound::upper_bound(std::slice::from_ref(placed_f), &[cand], k);
-    let efficiency_at_least = ((prediction.log_det - upper_bound) / r as f64)
-        .exp()
-        .min(1.0);
+    // A share whose trace is below rounding of the whole carries nothing.
+    let uninformative = chosen
+        .iter()
+        .copied()
+        .filter(|&i| cand[i].trace() <= 1e-12 * f.trace())
+        .collect();
+    // In F·σ₀²'s units, before log det F's shift (which would cost the
+    // difference its digits); a singular F's D-efficiency is 0.
+    let raw_bound = bound::upper_bound(std::slice::from_ref(placed_f), &[cand], k);
+    let raw = match prediction.log_det {
+        f64::NEG_INFINITY => f64::NEG_INFINITY,
+        _ => log_det(&f),
+    };
+    let efficiency_at_least = ((raw - raw_bound) / r as f64).exp().min(1.0);
+    let upper_bound = raw_bound + parts.log_det_shift();
     let search = match over_box {
         Some(b) => b.search,
         None if !settings.force_greedy
@@ -277,6 +309,7 @@ fn chosen_set(
         prediction,
         upper_bound,
         efficiency_at_least,
+        uninformative,
     }
 }
 

@@ -4,10 +4,11 @@
 //! choice at the values.
 use super::choose::{choose, criterion, Search};
 use super::fisher::{fisher_parts, FisherParts};
+use super::fisher_bound::cramer_rao_fisher;
 use super::{DesignError, DesignSettings};
 use crate::identification::box_map::BoxMap;
 use crate::identification::plan::lp_tau_plan;
-use crate::identification::uncertainty::{cramer_rao_fisher, UncertaintySettings};
+use crate::identification::uncertainty::UncertaintySettings;
 use crate::model::Model;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
@@ -62,7 +63,7 @@ fn singular(base: &DMatrix<f64>, cand: &[DMatrix<f64>], chosen: &[usize]) -> boo
     let f = chosen.iter().fold(base.clone(), |m, &i| m + &cand[i]);
     let ones = vec![1.0; f.ncols()];
     let settings = UncertaintySettings::default();
-    cramer_rao_fisher(&f, 1 << 40, &ones, &ones, &settings).is_err()
+    cramer_rao_fisher(&f, 1 << 40, &ones, &ones, 1.0, &settings).is_err()
 }
 
 /// At one box point (its placed Fisher part `b` and candidates' `c`, one

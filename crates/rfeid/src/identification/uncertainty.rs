@@ -285,7 +285,7 @@ pub fn cramer_rao_mapped(
     analyse(jac_u, &factors, ssr, Some(box_widths), settings)
 }
 
-fn check_widths(r: usize, box_widths: Option<&[f64]>) -> Result<(), UncertaintyError> {
+pub(crate) fn check_widths(r: usize, box_widths: Option<&[f64]>) -> Result<(), UncertaintyError> {
     let Some(widths) = box_widths else {
         return Ok(());
     };
@@ -355,73 +355,6 @@ pub fn cramer_rao_blocked(
     from_scaled_factor(rs, &norms, n_obs, &factors, ssr, Some(box_widths), settings)
 }
 
-/// [`cramer_rao_mapped`] from the Fisher matrix `F = H₁ᵀH₁` itself, its
-/// rows already divided by each observation's noise standard deviation, so
-/// that s² = 1 (eq. 26 with the noise known: the prediction of an
-/// experiment design). `n_obs` is the number of observations it sums;
-/// `dx_du` the chain-rule factors of its coordinate, `box_widths` serve the
-/// standard-error-versus-box warning. F is scaled to unit diagonal and
-/// factored by its symmetric eigendecomposition (`F_s = RᵀR`, `R = Λ^½
-/// Vᵀ`). An eigenvalue of F_s is accurate only to about r·ε·λ_max, so the
-/// singular test is `λ ≤ max(tol², 100 r ε) λ_max` (tol the singular
-/// tolerance on singular values): a singular F is
-/// [`UncertaintyError::Singular`] with the parameters involved.
-pub fn cramer_rao_fisher(
-    fisher: &DMatrix<f64>,
-    n_obs: usize,
-    dx_du: &[f64],
-    box_widths: &[f64],
-    settings: &UncertaintySettings,
-) -> Result<CramerRao, UncertaintyError> {
-    let r = fisher.ncols();
-    if r == 0 {
-        return Err(UncertaintyError::NoParameters);
-    }
-    check_widths(r, Some(box_widths))?;
-    check_widths(r, Some(dx_du))?;
-    let norms: Vec<f64> = (0..r).map(|j| fisher[(j, j)].max(0.0).sqrt()).collect();
-    check_no_zero_column(&norms)?;
-    let scaled = DMatrix::from_fn(r, r, |i, j| {
-        0.5 * (fisher[(i, j)] + fisher[(j, i)]) / (norms[i] * norms[j])
-    });
-    if let Some((row, column)) = (0..r)
-        .flat_map(|i| (0..r).map(move |j| (i, j)))
-        .find(|&(i, j)| !scaled[(i, j)].is_finite())
-    {
-        return Err(UncertaintyError::NonFiniteJacobian { row, column });
-    }
-    let eig = scaled.symmetric_eigen();
-    let top = eig.eigenvalues.max();
-    let floor = settings
-        .singular_tolerance
-        .powi(2)
-        .max(100.0 * r as f64 * f64::EPSILON)
-        * top;
-    if eig.eigenvalues.iter().any(|&l| l <= floor) {
-        let v = &eig.eigenvectors;
-        let mut parameters: Vec<usize> = (0..r)
-            .filter(|&k| eig.eigenvalues[k] <= floor)
-            .flat_map(|k| (0..r).filter(move |&j| v[(j, k)].abs() >= 0.1))
-            .collect();
-        parameters.sort_unstable();
-        parameters.dedup();
-        let low = eig.eigenvalues.min().max(0.0);
-        return Err(UncertaintyError::Singular {
-            parameters,
-            condition_number: if low > 0.0 { top / low } else { f64::INFINITY },
-        });
-    }
-    let rs = DMatrix::from_fn(r, r, |k, j| {
-        eig.eigenvalues[k].sqrt() * eig.eigenvectors[(j, k)]
-    });
-    let factors: Vec<f64> = dx_du.iter().map(|d| 1.0 / d).collect();
-    // s² = ssr / (n − r − 1) = 1: the noise is in F already.
-    let mut bounds =
-        from_scaled_factor(rs, &norms, r + 2, &factors, 1.0, Some(box_widths), settings)?;
-    bounds.n_observations = n_obs;
-    Ok(bounds)
-}
-
 /// What the bounds need of a Jacobian `m` (or its triangular factor) with
 /// `n_obs` rows in all: parameters, more observations than r + 1 (eq. 29),
 /// a finite SSR ≥ 0 and finite entries.
@@ -448,7 +381,7 @@ fn check_inputs(m: &DMatrix<f64>, n_obs: usize, ssr: f64) -> Result<(), Uncertai
 }
 
 /// A parameter whose Jacobian column is zero cannot be identified.
-fn check_no_zero_column(norms: &[f64]) -> Result<(), UncertaintyError> {
+pub(crate) fn check_no_zero_column(norms: &[f64]) -> Result<(), UncertaintyError> {
     let zero: Vec<usize> = (0..norms.len()).filter(|&j| norms[j] == 0.0).collect();
     if zero.is_empty() {
         Ok(())
@@ -462,7 +395,7 @@ fn check_no_zero_column(norms: &[f64]) -> Result<(), UncertaintyError> {
 
 /// The analysis from `rs`, the triangular factor of the column-scaled
 /// Jacobian `H_s = H C⁻¹` with `C = diag(norms)`.
-fn from_scaled_factor(
+pub(crate) fn from_scaled_factor(
     rs: DMatrix<f64>,
     norms: &[f64],
     n_obs: usize,
@@ -498,7 +431,12 @@ fn from_scaled_factor(
         .map(|(n, f)| n * f.abs())
         .collect();
     let covariance = DMatrix::from_fn(r, r, |i, j| s2 * cov_s[(i, j)] / (c[i] * c[j]));
-    let std_errors: Vec<f64> = (0..r).map(|i| covariance[(i, i)].sqrt()).collect();
+    // A variance beyond f64's range may have a standard error within it.
+    let se = |i: usize| match covariance[(i, i)].sqrt() {
+        se if se.is_finite() => se,
+        _ => s2.sqrt() * cov_s[(i, i)].sqrt() / c[i],
+    };
+    let std_errors: Vec<f64> = (0..r).map(se).collect();
     let correlation = DMatrix::from_fn(r, r, |i, j| {
         if i == j {
             1.0

@@ -102,12 +102,13 @@ fn sensor(
     let noise = match &rs.noise {
         Some(n) => {
             let v = ctx.number(n, reading_dimension(kind), &entry, "noise")?;
-            if !(v.is_finite() && v > 0.0 && v.powi(-2).is_finite()) {
+            // σ² and 1/σ² are normal numbers: σ from about 1e-154 to 1e154.
+            if !(v > 0.0 && v.powi(2).is_normal() && v.powi(-2).is_normal()) {
                 return Err(ctx.err(
                     Some(n.span()),
                     &entry,
                     "noise",
-                    "the noise's standard deviation must be positive and finite (and its 1/σ² too)",
+                    "the noise's standard deviation must be positive, with σ² and 1/σ² finite and not below 1e-308 (σ from about 1e-154 to 1e154)",
                 ));
             }
             Some(v)
