@@ -749,21 +749,15 @@ def identify(
             model._native,
             source,
             set=_set_list(set),
-            plan=_int("plan", plan),
-            starts=_int("starts", starts),
-            method=method,
-            weights=weights,
-            noise_model=noise_model,
-            window=_float("window", window, True),
-            from_=_float("from_", from_),
-            threads=_int("threads", threads, True),
-            start=start,
+            options=_search_options(
+                plan=plan, starts=starts, method=method, weights=weights,
+                noise_model=noise_model, window=window, from_=from_, threads=threads,
+                start=start, jacobian_memory=jacobian_memory, profiles=profiles,
+                profile_points=profile_points,
+            ),
             tolerance=_float("tolerance", tolerance, True),
             substeps=_int("substeps", substeps, True),
-            jacobian_memory=_int("jacobian_memory", jacobian_memory, True),
             progress=watch,
-            profiles=_profile_names(profiles),
-            profile_points=_int("profile_points", profile_points),
             experiments=experiments,
         )
     finally:
@@ -773,8 +767,30 @@ def identify(
     return Identification(native, notes)
 
 
+def _search_options(*, plan: Any, starts: Any, method: Any, weights: Any, noise_model: Any,
+                    window: Any, from_: Any, threads: Any, start: Any, jacobian_memory: Any,
+                    profiles: Any, profile_points: Any) -> Dict[str, Any]:
+    """The search's keywords, each of its type (a ``TypeError`` naming the
+    keyword otherwise), as the one dict the native ``identify`` and
+    ``identify_shard`` take; the native side checks their ranges."""
+    return {
+        "plan": _int("plan", plan),
+        "starts": _int("starts", starts),
+        "method": method,
+        "weights": weights,
+        "noise_model": noise_model,
+        "window": _float("window", window, True),
+        "from": _float("from_", from_),
+        "threads": _int("threads", threads, True),
+        "start": start,
+        "jacobian_memory": _int("jacobian_memory", jacobian_memory, True),
+        "profiles": _profile_names(profiles),
+        "profile_points": _int("profile_points", profile_points),
+    }
+
+
 def _shard(model: Model, data: Any, shard: Any, output: Any, *, set: SetValues,
-           profiles: Any, **options: Any) -> str:
+           profiles: Any, tolerance: Any, substeps: Any, **options: Any) -> str:
     """:func:`identify` with ``shard``: writes shard K of N to ``output``."""
     if not (isinstance(shard, tuple) and len(shard) == 2):
         raise TypeError(f"shard={shard!r}: expected a tuple (K, N) with 0 <= K < N")
@@ -792,17 +808,9 @@ def _shard(model: Model, data: Any, shard: Any, output: Any, *, set: SetValues,
     out = os.fspath(output)
     _rfeid.identify_shard(
         model._native, os.fspath(data), (k, n), out,
-        plan=_int("plan", options["plan"]),
-        starts=_int("starts", options["starts"]),
-        method=options["method"],
-        weights=options["weights"],
-        noise_model=options["noise_model"],
-        window=_float("window", options["window"], True),
-        from_=_float("from_", options["from_"]),
-        threads=_int("threads", options["threads"], True),
-        start=options["start"],
-        tolerance=_float("tolerance", options["tolerance"], True),
-        substeps=_int("substeps", options["substeps"], True),
+        options=_search_options(jacobian_memory=None, profiles=None, profile_points=1, **options),
+        tolerance=_float("tolerance", tolerance, True),
+        substeps=_int("substeps", substeps, True),
     )
     return out
 

@@ -121,33 +121,25 @@ def identify(
     data: Optional[Union[str, "os.PathLike[str]", Tuple[str, bytes, List[str], Sequence[bytes]]]],
     *,
     set: List[str],
-    plan: int,
-    starts: int,
-    method: str,
-    weights: Optional[str],
-    noise_model: str,
-    window: Optional[float],
-    from_: float,
-    threads: Optional[int],
-    start: str,
+    options: Dict[str, Any],
     tolerance: Optional[float],
     substeps: Optional[int],
-    jacobian_memory: Optional[int],
     progress: Optional[Callable[[int, int, int, int, int, float], None]],
-    profiles: Optional[List[str]] = None,
-    profile_points: int = 20,
     experiments: Sequence[Tuple[str, Union[str, "os.PathLike[str]", Tuple[str, bytes, List[str], Sequence[bytes]]]]] = (),
 ) -> Tuple[Identification, List[str]]:
     """Identifies ``model``'s parameters from ``data`` (a data file, or a
     table: label, time in s, column names, columns in SI, the arrays as
     little-endian float64 bytes) as ``rfeid identify`` does; a campaign
     (a model with ``[[experiment]]`` entries) takes ``data=None`` and
-    ``experiments``, data by experiment name in place of their files: ``from_`` in
-    s, ``window`` a fraction of the record, ``tolerance`` a relative error,
-    ``substeps`` steps per sample, ``jacobian_memory`` MiB; ``progress``
-    is called as progress(plan points done, plan points, local search
-    (from 1; 0: the plan), local searches, iteration, J) every 50 ms and
-    once at the end. Returns the result and the notes of the reading."""
+    ``experiments``, data by experiment name in place of their files.
+    ``options`` holds the search's keywords, one key each (``plan``,
+    ``starts``, ``method``, ``weights``, ``noise_model``, ``window``,
+    ``from`` in s, ``threads``, ``start``, ``jacobian_memory`` MiB,
+    ``profiles``, ``profile_points``); ``tolerance`` is a relative error,
+    ``substeps`` steps per sample; ``progress`` is called as
+    progress(plan points done, plan points, local search (from 1; 0: the
+    plan), local searches, iteration, J) every 50 ms and once at the end.
+    Returns the result and the notes of the reading."""
 
 class Design:
     """A design with its model, for the report."""

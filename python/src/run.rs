@@ -15,7 +15,6 @@ use rfeid::identification::options::{
     named, prepare, SearchOptions, METHODS, NOISE_MODELS, STARTS, WEIGHTS,
 };
 use rfeid::identification::pipeline::{identify as run_pipeline, ProfileRequest};
-use rfeid::identification::profile::DEFAULT_POINTS;
 use rfeid::identification::result::{IdentificationResult, InputDigests};
 use rfeid::io::digest::file_digest;
 use rfeid::model::{set_values, Model};
@@ -25,36 +24,53 @@ fn choice<T: Copy>(option: &'static str, value: &str, choices: &[(&str, T)]) -> 
     named(option, value, choices).map_err(|e| option_error(&e))
 }
 
-/// The library's options from the keywords, with their names.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn search_options(
+/// The search options as the Python layer passes them, one dict with a
+/// key per keyword (`from_` as `from`; `profiles` `None` for none), each
+/// already of its type: the one list of the keywords that
+/// [`identify`] and [`super::shards::identify_shard`] both take.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub(crate) struct OptionsArg {
     plan: usize,
     starts: usize,
-    method: &str,
-    weights: Option<&str>,
-    noise_model: &str,
+    method: String,
+    weights: Option<String>,
+    noise_model: String,
     window: Option<f64>,
-    from_: f64,
+    from: f64,
     threads: Option<usize>,
-    start: &str,
+    start: String,
     jacobian_memory: Option<usize>,
-    profiles: Option<ProfileRequest>,
-) -> PyResult<SearchOptions> {
-    Ok(SearchOptions {
-        plan,
-        starts,
-        method: choice("method", method, &METHODS)?,
-        weights: weights
-            .map(|w| choice("weights", w, &WEIGHTS))
-            .transpose()?,
-        noise_model: choice("noise_model", noise_model, &NOISE_MODELS)?,
-        threads,
-        from: from_,
-        window,
-        start: choice("start", start, &STARTS)?,
-        jacobian_memory,
-        profiles,
-    })
+    profiles: Option<Vec<String>>,
+    profile_points: usize,
+}
+
+impl OptionsArg {
+    /// The library's options, checked; a name or value out of range is a
+    /// `ValueError` naming the keyword.
+    pub(crate) fn options(self) -> PyResult<SearchOptions> {
+        let options = SearchOptions {
+            plan: self.plan,
+            starts: self.starts,
+            method: choice("method", &self.method, &METHODS)?,
+            weights: self
+                .weights
+                .map(|w| choice("weights", &w, &WEIGHTS))
+                .transpose()?,
+            noise_model: choice("noise_model", &self.noise_model, &NOISE_MODELS)?,
+            threads: self.threads,
+            from: self.from,
+            window: self.window,
+            start: choice("start", &self.start, &STARTS)?,
+            jacobian_memory: self.jacobian_memory,
+            profiles: self.profiles.map(|parameters| ProfileRequest {
+                parameters,
+                points: self.profile_points,
+            }),
+        };
+        options.check().map_err(|e| option_error(&e))?;
+        Ok(options)
+    }
 }
 
 /// Records in `result` what it was computed from, as `rfeid identify`
@@ -221,65 +237,36 @@ fn input(
 /// the result's source recorded, as `rfeid identify` does. A model with
 /// `[[experiment]]` entries is a campaign: `data` is then `None` and
 /// `experiments` gives data by experiment name in place of the files the
-/// model names. Units: `from_`
-/// in s, `window` a fraction of the record, `tolerance` a relative RMS
-/// error, `substeps` steps per sample, `jacobian_memory` MiB; `profiles`
-/// the parameters to profile after the bounds (empty: every one; `None`:
-/// none), on `profile_points` points each;
+/// model names. `options` holds the search's keywords ([`OptionsArg`]:
+/// `from` in s, `window` a fraction of the record, `jacobian_memory` MiB,
+/// `profiles` the parameters to profile after the bounds, empty: every
+/// one); `tolerance` is a relative RMS error, `substeps` steps per sample;
 /// `progress(done, total, search, searches, iteration, J)` is called every
 /// 50 ms and once at the end. Returns the result and the notes of the
 /// reading.
 #[pyfunction]
-#[pyo3(signature = (model, data, *, set, plan, starts, method, weights, noise_model, window,
-    from_, threads, start, tolerance, substeps, jacobian_memory, progress, profiles=None,
-    profile_points=DEFAULT_POINTS, experiments=Vec::new()))]
+#[pyo3(signature = (model, data, *, set, options, tolerance, substeps, progress,
+    experiments=Vec::new()))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify(
     py: Python<'_>,
     model: &PyModel,
     data: Option<DataArg<'_>>,
     set: Vec<String>,
-    plan: usize,
-    starts: usize,
-    method: &str,
-    weights: Option<&str>,
-    noise_model: &str,
-    window: Option<f64>,
-    from_: f64,
-    threads: Option<usize>,
-    start: &str,
+    options: OptionsArg,
     tolerance: Option<f64>,
     substeps: Option<usize>,
-    jacobian_memory: Option<usize>,
     progress: Option<Bound<'_, PyAny>>,
-    profiles: Option<Vec<String>>,
-    profile_points: usize,
     experiments: Vec<(String, DataArg<'_>)>,
 ) -> PyResult<(PyIdentification, Vec<String>)> {
-    let options = search_options(
-        plan,
-        starts,
-        method,
-        weights,
-        noise_model,
-        window,
-        from_,
-        threads,
-        start,
-        jacobian_memory,
-        profiles.map(|parameters| ProfileRequest {
-            parameters,
-            points: profile_points,
-        }),
-    )?;
-    options.check().map_err(|e| option_error(&e))?;
+    let options = options.options()?;
     let fixed = set_values::fixed(model.model.clone(), &set).map_err(setting_error)?;
     let edited = set_values::stepped(fixed, tolerance, substeps).map_err(setting_error)?;
     let label = model_label(model);
     let input = input(&edited, &label, data, experiments)?;
     let cancel = Cancel::new();
     let counters = Counters::default();
-    let pool = super::shards::pool(threads)?;
+    let pool = super::shards::pool(options.threads)?;
     let searched = watched(py, &cancel, &counters, progress.as_ref(), || {
         pool.install(|| match input {
             Input::Single(source) => search(&edited, &source, &options, &cancel, &counters),

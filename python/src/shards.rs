@@ -9,7 +9,7 @@ use super::errors::{
 };
 use super::model::PyModel;
 use super::result::{Fitted, PyIdentification};
-use super::run::search_options;
+use super::run::OptionsArg;
 use super::watch::{watched, Counters};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -86,8 +86,7 @@ fn shard_inputs(
 /// whole (resuming the points a shard file of this run and shard already
 /// there holds). Returns (points, failed points, seconds).
 #[pyfunction]
-#[pyo3(signature = (model, data, shard, output, *, plan, starts, method, weights, noise_model,
-    window, from_, threads, start, tolerance, substeps))]
+#[pyo3(signature = (model, data, shard, output, *, options, tolerance, substeps))]
 #[allow(clippy::too_many_arguments)]
 pub fn identify_shard(
     py: Python<'_>,
@@ -95,32 +94,11 @@ pub fn identify_shard(
     data: PathBuf,
     shard: (usize, usize),
     output: PathBuf,
-    plan: usize,
-    starts: usize,
-    method: &str,
-    weights: Option<&str>,
-    noise_model: &str,
-    window: Option<f64>,
-    from_: f64,
-    threads: Option<usize>,
-    start: &str,
+    options: OptionsArg,
     tolerance: Option<f64>,
     substeps: Option<usize>,
 ) -> PyResult<(usize, usize, f64)> {
-    let options = search_options(
-        plan,
-        starts,
-        method,
-        weights,
-        noise_model,
-        window,
-        from_,
-        threads,
-        start,
-        None,
-        None,
-    )?;
-    options.check().map_err(|e| option_error(&e))?;
+    let options = options.options()?;
     let (k, n) = shard;
     let (model_path, edited) = shard_inputs(
         model,
