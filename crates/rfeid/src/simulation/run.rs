@@ -240,6 +240,9 @@ impl<'m> Simulator<'m> {
                     if span.observer.is_some() {
                         span.notify(first + k, ws, out);
                     }
+                    if k + 1 == span.next_check && k + 1 < n_samples && span.check(k + 1, out) {
+                        return Ok(());
+                    }
                 }
                 if step == total_steps {
                     break;
@@ -310,6 +313,10 @@ impl SampleView<'_> {
     }
 }
 
+/// What [`Simulator::run_watched`] asks after every few samples: given
+/// the samples recorded and the readings so far, whether to stop.
+pub type Watch<'a> = dyn FnMut(usize, &Response) -> bool + Send + 'a;
+
 /// What part of the record a run covers, and who watches it. The default is
 /// the whole record from rest, unobserved.
 #[derive(Default)]
@@ -332,6 +339,17 @@ pub struct Span<'a> {
     /// the sensitivities to the same parameters at a sample; with `start`
     /// unset. (A run from `start` is plain.)
     pub(crate) resume: Option<(SampleState, SensitivityState)>,
+    /// Asked after every [`Span::every`] samples short of the run's end,
+    /// with the number of samples recorded and the run's readings so far
+    /// (before calibration): `true` stops the run there
+    /// ([`Simulator::run_watched`]).
+    pub(crate) watch: Option<&'a mut Watch<'a>>,
+    /// Samples between two calls of `watch`.
+    pub(crate) every: usize,
+    /// The samples recorded when `watch` is next asked (0: never).
+    pub(crate) next_check: usize,
+    /// Whether `watch` stopped the run.
+    pub(crate) stopped: bool,
 }
 
 /// The sensitivities of the state at a sample, as a run with sensitivities
@@ -369,6 +387,17 @@ impl Span<'_> {
             ws.sy.copy_from_slice(&sens.sy);
             ws.z.sy.copy_from_slice(&sens.z_sy);
         }
+    }
+
+    /// Asks the watch whether to stop after `samples` samples of the run
+    /// in `out` (outlined: the kernels' loop only compares a count).
+    #[inline(never)]
+    fn check(&mut self, samples: usize, out: &Response) -> bool {
+        self.next_check += self.every.max(1);
+        if let Some(watch) = self.watch.as_mut() {
+            self.stopped = watch(samples, out);
+        }
+        self.stopped
     }
 
     /// Calls the observer with sample `sample` of the run in `ws`
