@@ -197,6 +197,7 @@ impl<'m> Simulator<'m> {
         // 20-body model's runs with sensitivities took 20 % longer).
         let step0 = first * substeps;
         let total_steps = n_samples.saturating_sub(1) * substeps;
+        span.notified = span.observer.is_some() || span.watch.is_some();
         let bps = &self.breakpoints;
         let margin = 1e-9 * h;
         let mut next_bp = 0;
@@ -216,7 +217,7 @@ impl<'m> Simulator<'m> {
                 if step % substeps == 0 {
                     let k = step / substeps;
                     if ws.y.iter().any(|v| !(v.abs() < BLOW_UP)) {
-                        return Err(self.diverged(&sys.params, t, substeps, &ws.y));
+                        return Err(self.diverged(&sys.params, t, substeps, ws));
                     }
                     record(
                         &self.structure,
@@ -237,11 +238,8 @@ impl<'m> Simulator<'m> {
                             s,
                         );
                     }
-                    if span.observer.is_some() {
+                    if span.notified {
                         span.notify(first + k, ws, out);
-                    }
-                    if k + 1 == span.next_check && k + 1 < n_samples && span.check(k + 1, out) {
-                        return Ok(());
                     }
                 }
                 if step == total_steps {
@@ -350,6 +348,9 @@ pub struct Span<'a> {
     pub(crate) next_check: usize,
     /// Whether `watch` stopped the run.
     pub(crate) stopped: bool,
+    /// Whether the loop calls `notify` at each sample (an observer or a
+    /// watch; set by the run).
+    pub(crate) notified: bool,
 }
 
 /// The sensitivities of the state at a sample, as a run with sensitivities
@@ -389,21 +390,30 @@ impl Span<'_> {
         }
     }
 
-    /// Asks the watch whether to stop after `samples` samples of the run
-    /// in `out` (outlined: the kernels' loop only compares a count).
+    /// Calls the observer with sample `sample` of the run in `ws`, and
+    /// asks the watch whether to stop when it is due (not after the run's
+    /// last sample, `out.n_samples`). To stop, the state is made NaN, so
+    /// that the loop's own divergence check ends the run at the next
+    /// sample, and `ws.stopped` tells it apart from a divergence: the
+    /// kernels' loop is the same watched or not (an early return in it
+    /// made the runs with sensitivities of a 2-body model 2.5 times
+    /// slower). Outlined: the loop only tests `notified`.
     #[inline(never)]
-    fn check(&mut self, samples: usize, out: &Response) -> bool {
-        self.next_check += self.every.max(1);
-        if let Some(watch) = self.watch.as_mut() {
-            self.stopped = watch(samples, out);
+    fn notify(&mut self, sample: usize, ws: &mut Workspace, out: &Response) {
+        let samples = sample - self.first_sample() + 1;
+        if samples == self.next_check && samples < out.n_samples {
+            self.next_check += self.every.max(1);
+            if let Some(watch) = self.watch.as_mut() {
+                if watch(samples, out) {
+                    self.stopped = true;
+                    ws.stopped = true;
+                    ws.y.fill(f64::NAN);
+                }
+            }
         }
-        self.stopped
-    }
-
-    /// Calls the observer with sample `sample` of the run in `ws`
-    /// (outlined: the kernels' loop only tests for an observer).
-    #[inline(never)]
-    fn notify(&mut self, sample: usize, ws: &Workspace, out: &Response) {
+        if self.observer.is_none() {
+            return;
+        }
         let first = self.first_sample();
         if let Some(observe) = self.observer.as_mut() {
             observe(&SampleView {
@@ -425,7 +435,18 @@ impl Simulator<'_> {
     /// calls it).
     #[cold]
     #[inline(never)]
-    fn diverged(&self, params: &[f64], time: f64, substeps: usize, y: &[f64]) -> SimulationError {
+    fn diverged(
+        &self,
+        params: &[f64],
+        time: f64,
+        substeps: usize,
+        ws: &Workspace,
+    ) -> SimulationError {
+        if ws.stopped {
+            // Not a divergence: a watch stopped the run (`Span::notify`).
+            return SimulationError::Cancelled;
+        }
+        let y = &ws.y;
         let magnitude = match y.iter().all(|v| v.is_finite()) {
             true => y.iter().fold(0.0_f64, |m, v| m.max(v.abs())),
             false => f64::INFINITY,

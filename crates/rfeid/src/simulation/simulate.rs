@@ -82,10 +82,13 @@ impl<'m> Simulator<'m> {
             next_check: every.max(1),
             ..Span::default()
         };
-        self.integrate(params, &[], ws, out, None, &mut span)?;
+        ws.stopped = false;
+        let run = self.integrate(params, &[], ws, out, None, &mut span);
         if span.stopped {
+            ws.stopped = false;
             return Ok(false);
         }
+        run?;
         super::calibration::apply(self.model, params, &[], out, None);
         Ok(true)
     }
