@@ -113,6 +113,11 @@ fn three_shards_merged_equal_the_single_run_bit_for_bit() {
     // Exact equality of every number: serde_json reads floats back exactly.
     assert!(a == b, "the merged result differs from the single run");
     assert_eq!(a["plan"]["points"], 24);
+    // The single run abandoned points of its plan's second batch; the
+    // merge, whose shards simulated every point to the end, the same ones.
+    assert!(a["plan"]["abandoned"]
+        .as_array()
+        .is_some_and(|v| !v.is_empty()));
 }
 
 #[test]

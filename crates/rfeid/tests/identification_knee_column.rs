@@ -192,6 +192,9 @@ fn identification_does_not_depend_on_the_thread_count() {
     let (one, two) = (on(1), on(2));
     assert_eq!(one.criterion.to_bits(), two.criterion.to_bits());
     assert_eq!(one.plan.costs, two.plan.costs);
+    // The same points abandoned (the plan's second batch has some).
+    assert_eq!(one.plan.abandoned, two.plan.abandoned);
+    assert!(!one.plan.abandoned.is_empty());
     for (a, b) in one.parameters.iter().zip(&two.parameters) {
         assert_eq!(a.estimate.to_bits(), b.estimate.to_bits(), "{}", a.name);
         assert_eq!(

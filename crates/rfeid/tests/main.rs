@@ -52,6 +52,7 @@ mod model_file_errors;
 mod model_file_fuzz;
 mod model_file_reading;
 mod model_file_reference;
+mod plan_abandoning;
 mod power_law_exponent_one;
 mod profiles;
 mod regression_empty_wrt_sensitivities;

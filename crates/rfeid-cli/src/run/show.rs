@@ -106,23 +106,49 @@ pub fn format_result(
     write_experiments(&mut out, r);
     write_verdict(&mut out, r);
     if timings {
-        let t = &r.timings;
-        let _ = writeln!(
-        out,
-            "timings: plan {:.3} s, local search {:.3} s, uncertainty {:.3} s,{} total {:.3} s ({} thread{})",
-            t.plan,
-            t.local_search,
-            t.uncertainty,
-            match r.profiles.is_empty() {
-                true => String::new(),
-                false => format!(" profiles {:.3} s,", t.profiles),
-            },
-            t.total,
-            r.threads,
-            if r.threads == 1 { "" } else { "s" }
-        );
+        let _ = writeln!(out, "{}", timings_line(r));
     }
     out
+}
+
+/// The `--timings` line: the wall time of the plan (its points abandoned),
+/// of each local search from a start, of the bounds, the profiles if any
+/// and the whole run, then the simulations with and without
+/// sensitivities, how many and their time summed over the threads.
+fn timings_line(r: &IdentificationResult) -> String {
+    let t = &r.timings;
+    let w = &t.simulations;
+    let abandoned = match r.plan.abandoned.len() {
+        0 => String::new(),
+        n => format!(", {n} abandoned"),
+    };
+    let searches = match t.searches.as_slice() {
+        [] | [_] => String::new(),
+        s => {
+            let each: Vec<String> = s.iter().map(|x| format!("{x:.3}")).collect();
+            format!(" ({} searches: {} s)", s.len(), each.join(", "))
+        }
+    };
+    let profiles = match r.profiles.is_empty() {
+        true => String::new(),
+        false => format!(" profiles {:.3} s,", t.profiles),
+    };
+    format!(
+        "timings: plan {:.3} s ({} points{abandoned}), local search {:.3} s{searches}, \
+         uncertainty {:.3} s,{profiles} total {:.3} s ({} thread{}); simulations: {} plain \
+         {:.3} s, {} with sensitivities {:.3} s (summed over threads)",
+        t.plan,
+        r.plan.points,
+        t.local_search,
+        t.uncertainty,
+        t.total,
+        r.threads,
+        if r.threads == 1 { "" } else { "s" },
+        w.plain,
+        w.plain_seconds,
+        w.with_sensitivities,
+        w.sensitivity_seconds,
+    )
 }
 
 /// Table 1–2: each identified parameter's box, reference value, estimate
@@ -194,9 +220,13 @@ fn write_search(out: &mut String, r: &IdentificationResult) {
     );
     let _ = writeln!(
         out,
-        "plan: {} points, {} failed; simulations: {} (+{} with sensitivities), {} failed",
+        "plan: {} points, {} failed{}; simulations: {} (+{} with sensitivities), {} failed",
         r.plan.points,
         r.plan.failed,
+        match r.plan.abandoned.len() {
+            0 => String::new(),
+            n => format!(", {n} abandoned"),
+        },
         r.simulations,
         r.simulations_with_sensitivities,
         r.failed_simulations

@@ -173,7 +173,8 @@ pub fn evaluate_cost_factor<P: LeastSquares + ?Sized>(
     }
 }
 
-fn finite_cost<E>(r: &[f64]) -> Result<f64, EvalError<E>> {
+/// J (eq. 16) of the residuals `r`, or why it is not finite.
+pub(crate) fn finite_cost<E>(r: &[f64]) -> Result<f64, EvalError<E>> {
     if let Some(index) = r.iter().position(|v| !v.is_finite()) {
         return Err(EvalError::NonFinite { index });
     }

@@ -33,14 +33,22 @@ pub struct ParameterEstimate {
 pub struct PlanSummary {
     /// N_p.
     pub points: usize,
-    /// Points whose simulation failed (J = +∞).
+    /// Points whose simulation failed (J = +∞), of those evaluated to the
+    /// end.
     pub failed: usize,
-    /// J at each point in plan order; `None` where the simulation failed.
+    /// J at each point in plan order; `None` where the simulation failed
+    /// or the point was abandoned.
     pub costs: Vec<Option<f64>>,
     /// Plan indices (0-based) the local searches started from.
     pub starts: Vec<usize>,
     /// The first failure's message, if any.
     pub first_failure: Option<String>,
+    /// Plan indices (0-based) of the points abandoned: their running J
+    /// passed the J of the best points found before them, so they could
+    /// not be among the best, and their simulation stopped there (neither
+    /// a J nor a failure; absent when none was).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub abandoned: Vec<usize>,
 }
 
 /// A local search that could not run (its start point's evaluation with
@@ -65,7 +73,8 @@ pub struct Iterate {
     pub parameters: Vec<f64>,
 }
 
-/// Wall time of each phase, s.
+/// Wall time of each phase, s, and where the simulations' time went (not
+/// results: they change with the machine and the threads).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Timings {
     /// The LP_τ plan.
@@ -79,6 +88,15 @@ pub struct Timings {
     pub profiles: f64,
     /// Everything.
     pub total: f64,
+    /// Each local search from a start (the starts, then the restarts, each
+    /// with its window search), in the order they ran (absent in results
+    /// written before they were timed).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub searches: Vec<f64>,
+    /// The simulations this process ran and their time (zero in results
+    /// written before they were counted; a merge's plan ran in its shards).
+    #[serde(default)]
+    pub simulations: super::tally::Work,
 }
 
 /// Where the model and the data came from, so that a report can be rebuilt

@@ -6,11 +6,21 @@
 //! from them ([`merge_shards`]). The plan's values are J's own (written
 //! with round-trip exactness), so a merged result equals the single run's
 //! in every field but the wall times and the thread count.
+//!
+//! A shard cannot know which points a single run abandons (that takes the
+//! best J of every point before them), so it evaluates each of its points
+//! to the end and records, with J, the largest running J its checks saw
+//! (`reach`). The merge replays the single run's batches on them
+//! ([`replay`]): a point is abandoned there if and only if its reach
+//! passes its batch's limit, so the merge abandons the same points, and
+//! takes their J from the shards where the restarts need it.
 use crate::identification::output_error::OutputError;
 use crate::identification::pipeline::{
-    evaluate_points, finish, plan, IdentifyError, PointOutcome, Progress, Settings, Silent,
+    evaluate_points, finish, keep, plan, replay, Evaluated, IdentifyError, PlanPoints, Progress,
+    Settings, Silent,
 };
 use crate::identification::plan::Plan;
+use crate::identification::problem::LeastSquares;
 use crate::identification::result::IdentificationResult;
 use crate::io::shard_file::{PointRecord, ShardFile};
 use std::collections::BTreeMap;
@@ -55,11 +65,14 @@ pub fn evaluate_share<E: From<IdentifyError>>(
     let base_seconds = file.seconds;
     for (c, indices) in todo.chunks(chunk).enumerate() {
         let outcomes = evaluate_points(&switched, plan, indices, &Silent)?;
-        for (&index, o) in indices.iter().zip(outcomes) {
+        for (&index, e) in indices.iter().zip(outcomes) {
             let record = PointRecord {
                 index,
-                cost: o.as_ref().ok().copied(),
-                failure: o.err(),
+                cost: e.outcome.as_ref().ok().copied(),
+                failure: e.outcome.err(),
+                // JSON has no infinity: the largest finite number is
+                // above every limit as infinity is.
+                reach: Some(e.reach.min(f64::MAX)),
             };
             done.insert(index, record);
         }
@@ -139,9 +152,11 @@ fn differs(first: &ShardFile, s: &ShardFile) -> Option<String> {
     }
 }
 
-/// The outcome of every plan point of a plan of `points`, from the shards.
-fn gather(shards: &[(PathBuf, ShardFile)], points: usize) -> Result<Vec<PointOutcome>, MergeError> {
-    let mut outcomes: Vec<Option<PointOutcome>> = vec![None; points];
+/// Every point of a plan of `points` as the shards evaluated it (a point
+/// without a reach, from a shard written before reaches were recorded:
+/// reach 0, never abandoned).
+fn gather(shards: &[(PathBuf, ShardFile)], points: usize) -> Result<Vec<Evaluated>, MergeError> {
+    let mut outcomes: Vec<Option<Evaluated>> = vec![None; points];
     for (path, s) in shards {
         for p in &s.points {
             let slot = outcomes.get_mut(p.index).ok_or_else(|| {
@@ -152,9 +167,13 @@ fn gather(shards: &[(PathBuf, ShardFile)], points: usize) -> Result<Vec<PointOut
                 ))
             })?;
             // The shard file was validated: exactly one of the two is there.
-            *slot = Some(match (&p.cost, &p.failure) {
+            let outcome = match (&p.cost, &p.failure) {
                 (Some(c), _) => Ok(*c),
                 (None, f) => Err(f.clone().unwrap_or_default()),
+            };
+            *slot = Some(Evaluated {
+                outcome,
+                reach: p.reach.unwrap_or(0.0),
             });
         }
     }
@@ -167,9 +186,10 @@ fn gather(shards: &[(PathBuf, ShardFile)], points: usize) -> Result<Vec<PointOut
 
 /// Finishes the run the shards (checked by [`check_together`], their
 /// hash against the run's inputs by the caller) began: the plan rebuilt,
-/// J at every point taken from the shards, then the local searches,
-/// bounds and verdict ([`finish`]); the plan's time is the shards'
-/// summed wall time.
+/// J at every point taken from the shards, the points a single run
+/// abandons abandoned again ([`replay`]), then the local searches, bounds
+/// and verdict ([`finish`]); the plan's time is the shards' summed wall
+/// time.
 pub fn merge_shards(
     problem: OutputError<'_>,
     settings: &Settings,
@@ -178,9 +198,11 @@ pub fn merge_shards(
 ) -> Result<IdentificationResult, MergeError> {
     check_together(shards)?;
     let plan = plan(&problem, settings)?;
-    let outcomes = gather(shards, plan.len())?;
+    let evaluated = gather(shards, plan.len())?;
+    let points = PlanPoints {
+        states: replay(&evaluated, keep(settings), problem.n_residuals()),
+        known: Some(evaluated.into_iter().map(|e| e.outcome).collect()),
+    };
     let seconds: f64 = shards.iter().map(|(_, s)| s.seconds).sum();
-    Ok(finish(
-        problem, settings, &plan, outcomes, seconds, progress,
-    )?)
+    Ok(finish(problem, settings, &plan, points, seconds, progress)?)
 }

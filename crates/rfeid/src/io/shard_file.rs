@@ -7,7 +7,9 @@
 //! the data file and the search settings, FNV-1a 64 over their bytes: a
 //! check that the shards belong together, not a protection against
 //! tampering), the shard's number, the search settings, the model and data
-//! paths, and J (or the failure) at every finished point.
+//! paths, and J (or the failure) at every finished point, with the
+//! largest running J its evaluation's checks saw (its reach, from which
+//! the merge tells the points a single run abandons).
 use crate::identification::options::{SearchOptions, DEFAULT_WEIGHTS};
 use crate::identification::pipeline::Start;
 use crate::io::digest::{fnv1a, read_bytes, DigestError};
@@ -97,6 +99,11 @@ pub struct PointRecord {
     /// Why it could not, otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failure: Option<String>,
+    /// The largest running J the evaluation's checks saw, from which the
+    /// merge tells whether a single run abandons the point (absent in
+    /// shards written before it was recorded: never abandoned).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reach: Option<f64>,
 }
 
 /// A shard file.
@@ -315,6 +322,15 @@ impl ShardFile {
                 format!(
                     "holds plan point {}, which is not in shard {}/{} of a plan of {} points",
                     p.index, self.shard, self.of, self.search.options.plan
+                ),
+            ));
+        }
+        if let Some(reach) = p.reach.filter(|r| !(r.is_finite() && *r >= 0.0)) {
+            return Err((
+                "points".into(),
+                format!(
+                    "gives plan point {} reach = {reach}: a reach is finite and at least 0",
+                    p.index
                 ),
             ));
         }

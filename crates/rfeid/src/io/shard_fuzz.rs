@@ -56,6 +56,7 @@ fn valid() -> ShardFile {
                 index,
                 cost: (index != 4).then_some(0.25 * index as f64),
                 failure: (index == 4).then(|| "the simulation diverged".into()),
+                reach: Some(0.125 * index as f64),
             })
             .collect(),
     }

@@ -261,9 +261,10 @@ fn summary_rows(input: &ReportInput) -> Vec<(&'static str, String)> {
         (
             "LP_τ plan",
             format!(
-                "{} points, {} failed, {} start(s)",
+                "{} points, {} failed, {} abandoned, {} start(s)",
                 r.plan.points,
                 r.plan.failed,
+                r.plan.abandoned.len(),
                 r.plan.starts.len()
             ),
         ),
@@ -564,10 +565,17 @@ fn plan_text(out: &mut String, r: &IdentificationResult) {
     let best = finite.iter().copied().fold(f64::INFINITY, f64::min);
     let _ = write!(
         out,
-        "<p>{} plan points, {} failed to simulate. Best plan J = {}; the local search started \
+        "<p>{} plan points, {} failed to simulate{}. Best plan J = {}; the local search started \
          from plan point(s) {}.",
         r.plan.points,
         r.plan.failed,
+        match r.plan.abandoned.len() {
+            0 => String::new(),
+            n => format!(
+                ", {n} abandoned (their running J passed the best points', so their \
+                 simulation stopped there)"
+            ),
+        },
         sig(best, 4),
         r.plan
             .starts

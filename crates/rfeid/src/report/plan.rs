@@ -17,17 +17,23 @@ const FAILED_FILL: &str = "#fbe5d9";
 
 /// The waterfall: sorted finite J on a log axis (linear if some J ≤ 0),
 /// failed points as crosses in a strip at the top, the start point(s)
-/// ringed, and the final J as a dashed line.
+/// ringed, and the final J as a dashed line. Abandoned points (their J
+/// above the best ones', not computed) are counted in the title only.
 pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
     let ok = sorted_finite(plan);
-    let n_failed = plan.costs.len() - ok.len();
+    let shown = plan.costs.len() - plan.abandoned.len().min(plan.costs.len());
+    let n_failed = shown.saturating_sub(ok.len());
+    let abandoned = match plan.abandoned.len() {
+        0 => String::new(),
+        n => format!(", {n} abandoned"),
+    };
     let title = format!(
-        "LP_τ plan: criterion J at {} points, sorted ({} failed)",
+        "LP_τ plan: criterion J at {} points, sorted ({} failed{abandoned})",
         plan.costs.len(),
         n_failed
     );
     let mut svg = Svg::new(860.0, 318.0, &title);
-    let (frame, log) = plan_frame(&ok, plan.costs.len(), final_cost);
+    let (frame, log) = plan_frame(&ok, shown, final_cost);
     plan_legend(&mut svg);
     let y_title = if log {
         "criterion J (log)"
@@ -35,7 +41,7 @@ pub(crate) fn plan_figure(plan: &PlanSummary, final_cost: f64) -> String {
         "criterion J"
     };
     frame.axes(&mut svg, "plan points, sorted by J (rank)", y_title);
-    failed_strip(&mut svg, &frame, ok.len(), plan.costs.len());
+    failed_strip(&mut svg, &frame, ok.len(), ok.len() + n_failed);
     sorted_costs(&mut svg, &frame, &ok);
     final_cost_line(&mut svg, &frame, final_cost);
     start_rings(&mut svg, &frame, &ok, &plan.starts);

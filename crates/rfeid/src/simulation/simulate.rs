@@ -3,7 +3,7 @@
 //! runs over part of the record or watched sample by sample.
 use super::columns::group_size;
 use super::response::{Response, Sensitivities};
-use super::run::Span;
+use super::run::{Span, Watch};
 use super::simulator::Simulator;
 use super::workspace::Workspace;
 use super::SimulationError;
@@ -59,6 +59,38 @@ impl<'m> Simulator<'m> {
         }
         super::calibration::apply(self.model, params, wrt, out, Some(&mut sens.values));
         Ok(())
+    }
+
+    /// [`Simulator::run`], watched: after every `every` samples short of
+    /// the record's end, `watch(samples, motions)` is asked whether to go
+    /// on, with the number of samples recorded and the sensor motions so
+    /// far (before calibration: `motions.sensor(c)[..samples]`). When it
+    /// says stop (`true`), the run ends there with `Ok(false)`, and `out`
+    /// holds the motions so far, uncalibrated; `Ok(true)`: the whole
+    /// record, as [`Simulator::run`] gives it, bit for bit.
+    pub fn run_watched(
+        &self,
+        params: &[f64],
+        ws: &mut Workspace,
+        out: &mut Response,
+        every: usize,
+        watch: &mut Watch<'_>,
+    ) -> Result<bool, SimulationError> {
+        let mut span = Span {
+            watch: Some(watch),
+            every: every.max(1),
+            next_check: every.max(1),
+            ..Span::default()
+        };
+        ws.stopped = false;
+        let run = self.integrate(params, &[], ws, out, None, &mut span);
+        if span.stopped {
+            ws.stopped = false;
+            return Ok(false);
+        }
+        run?;
+        super::calibration::apply(self.model, params, &[], out, None);
+        Ok(true)
     }
 
     /// Simulates at `params` over the part of the record `span` gives,

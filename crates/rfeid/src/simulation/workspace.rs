@@ -40,6 +40,8 @@ pub struct Workspace {
     /// the fields above for z (empty without Bouc–Wen components), kept
     /// apart so that the motion's loops keep their fixed lengths.
     pub(crate) z: InternalStates,
+    /// Whether a watch stopped the run (`run::Span::notify`).
+    pub(crate) stopped: bool,
 }
 
 /// The internal states z of a run (`hysteresis`): the state, its stages

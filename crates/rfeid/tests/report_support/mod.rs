@@ -100,6 +100,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
             first_failure: (failed > 0).then(|| {
                 "the response diverged at t = 0.1 s (state not finite or beyond 1e6)".into()
             }),
+            abandoned: Vec::new(),
         },
         failed_starts: Vec::new(),
         history,
@@ -109,6 +110,7 @@ pub fn synthetic_result(model: &Model, failed: usize) -> IdentificationResult {
             uncertainty: 0.2,
             profiles: 0.0,
             total: 4.3,
+            ..Timings::default()
         },
         threads: 2,
         source: Default::default(),

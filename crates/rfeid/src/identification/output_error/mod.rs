@@ -26,15 +26,19 @@ use super::cancel::Cancel;
 use super::noise::ar::Whitener;
 use super::noise::SensorWeighting;
 use super::problem::LeastSquares;
-use super::tally::{Counter, Tally};
+use super::tally::Counter;
 use crate::simulation::{Response, SimulationError, Simulator};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+use std::time::Instant;
 
+mod count;
 mod factor;
 mod part;
 mod steps;
+mod watch;
 use part::{Part, PartWorkspace};
+pub use watch::Watched;
 
 /// One experiment's data for [`OutputError::campaign`].
 #[derive(Debug, Clone)]
@@ -180,26 +184,6 @@ impl<'m> OutputError<'m> {
         }
     }
 
-    /// The simulations run through this criterion so far (its clones and
-    /// the criteria that [`OutputError::count_into`] joined included).
-    pub fn tally(&self) -> Tally {
-        self.counter.read()
-    }
-
-    /// Records simulations run on this criterion's models elsewhere (the
-    /// step checks).
-    pub fn record(&self, t: Tally) {
-        self.counter.add(t);
-    }
-
-    /// Counts this criterion's simulations into `other`'s tally from now
-    /// on (a criterion on part of the record, say), and stops when `other`
-    /// is cancelled.
-    pub fn count_into(&mut self, other: &OutputError<'_>) {
-        self.counter = other.counter.clone();
-        self.cancel = other.cancel.clone();
-    }
-
     /// Stops this criterion (and its clones) when `cancel` is set: each
     /// simulation asked for after that fails at once with
     /// [`SimulationError::Cancelled`].
@@ -218,12 +202,6 @@ impl<'m> OutputError<'m> {
             true => Err(SimulationError::Cancelled),
             false => Ok(()),
         }
-    }
-
-    /// Counts the outcome of simulating every experiment once.
-    fn count<T>(&self, results: &[Result<T, SimulationError>], sensitivities: bool) {
-        let failed = results.iter().filter(|r| r.is_err()).count();
-        self.counter.record(results.len(), sensitivities, failed);
     }
 
     /// Number of experiments (1 for a single data file).
@@ -390,11 +368,12 @@ impl<'m> OutputError<'m> {
     /// ([`OutputError::use_search_steps`]): the fit is judged, and the noise
     /// estimated, at the full tolerance.
     pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
+        let since = Instant::now();
         let results: Vec<_> = (0..self.parts.len())
             .into_par_iter()
             .map(|i| self.simulate_part(i, u))
             .collect();
-        self.count(&results, false);
+        self.count(&results, false, since);
         results.into_iter().collect()
     }
 
@@ -479,9 +458,10 @@ impl OutputError<'_> {
             + Sync,
     ) -> Result<(), SimulationError> {
         self.check_cancel()?;
+        let since = Instant::now();
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
             let result = eval(part, pws, r, jac);
-            self.count(std::slice::from_ref(&result), sensitivities);
+            self.count(std::slice::from_ref(&result), sensitivities, since);
             return result;
         }
         let rows = self.split_rows(r);
@@ -492,7 +472,7 @@ impl OutputError<'_> {
             .zip(rows)
             .map(|((part, pws), r)| eval(part, pws, r, None))
             .collect();
-        self.count(&results, sensitivities);
+        self.count(&results, sensitivities, since);
         first_error(results)
     }
 }
@@ -582,6 +562,7 @@ impl LeastSquares for OutputError<'_> {
         }
         let rows = self.split_rows(r);
         for ((part, pws), r) in self.parts.iter().zip(&mut ws.parts).zip(rows) {
+            let since = Instant::now();
             let result = part.residuals_factor(
                 pws,
                 (u, &self.maps),
@@ -589,7 +570,7 @@ impl LeastSquares for OutputError<'_> {
                 qr,
                 (self.block_samples, &self.cancel),
             );
-            self.count(std::slice::from_ref(&result), true);
+            self.count(std::slice::from_ref(&result), true, since);
             result?;
         }
         Ok(())

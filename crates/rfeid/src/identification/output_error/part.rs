@@ -56,6 +56,12 @@ pub(super) struct PartWorkspace {
     pub(super) dx_du: Vec<f64>,
     /// The part's rows of the Jacobian (campaigns only).
     pub(super) jac: DMatrix<f64>,
+    /// What a watched evaluation (`watch`) carries between its checks:
+    /// per sensor, the last unfiltered residuals the whitening reaches
+    /// back to; a filter's input; a block's residuals.
+    pub(super) past: Vec<Vec<f64>>,
+    pub(super) line: Vec<f64>,
+    pub(super) block: Vec<f64>,
 }
 
 impl Part<'_> {
@@ -78,6 +84,9 @@ impl Part<'_> {
             params: Vec::with_capacity(self.base.len()),
             dx_du: vec![0.0; self.wrt.len()],
             jac: DMatrix::zeros(if n_cols > 0 { self.n_residuals() } else { 0 }, n_cols),
+            past: vec![Vec::new(); self.whitening.len()],
+            line: Vec::new(),
+            block: Vec::new(),
         }
     }
 

@@ -82,6 +82,7 @@ fn check_steps(
     problem.experiment_params(p, u, &mut x);
     let sim = problem.experiment_simulator(p);
     let (model, held) = (sim.model(), sim.steps());
+    let since = std::time::Instant::now();
     let c = match held.automatic {
         true => choose_steps(model, &x, held.tolerance, held.substeps),
         false => estimate_error(model, &x, held.substeps).map(|e| StepChoice {
@@ -90,7 +91,7 @@ fn check_steps(
             ..held
         }),
     }?;
-    problem.record(Tally::plain(c.runs));
+    problem.record(Tally::plain(c.runs), since.elapsed());
     problem.set_experiment_steps(
         p,
         StepChoice {

@@ -2,7 +2,7 @@
 //! records.
 use super::bounds::Bounds;
 use super::judge::fit_signals;
-use super::plan::PlanRun;
+use super::plan_run::PlanRun;
 use super::settings::{Settings, Weighting};
 use crate::identification::noise::{SensorNoise, StdErrorScope};
 use crate::identification::output_error::OutputError;
@@ -22,7 +22,7 @@ use crate::simulation::{Response, SimulationError};
 /// Everything the stages found, for [`assemble`].
 pub(super) struct Found<'a> {
     /// The plan.
-    pub plan: &'a PlanRun<'a>,
+    pub plan: &'a PlanRun<'a, 'a>,
     /// The search that gave the estimate.
     pub best: SearchOutcome,
     /// The bounds at the estimate.

@@ -2,7 +2,9 @@
 //! in a file of its own, with values, not strings, between them:
 //!
 //! 1. [`plan`]: the problem checked, the LP_τ plan (eq. 18–19) and J at its
-//!    points (possibly in shards: [`evaluate_points`]);
+//!    points, in batches that abandon the points that cannot be among the
+//!    best ([`evaluate_abandoning`]; in shards: [`evaluate_points`], then
+//!    [`replay`]);
 //! 2. `starts`: local searches ([`crate::identification::search`]) from the
 //!    best points, on a short window of the record first;
 //! 3. `weights`, before the restarts: only when no end passes the fit
@@ -32,10 +34,12 @@
 //! [`crate::identification::tally::Counter`].
 mod accuracy;
 mod assemble;
+mod batches;
 mod bounds;
 mod error;
 mod judge;
 mod plan;
+mod plan_run;
 mod profiles;
 mod restarts;
 mod searcher;
@@ -43,8 +47,9 @@ mod settings;
 mod starts;
 mod weights;
 
+pub use self::batches::{evaluate_abandoning, keep, replay, PlanPoints, PointState};
 pub use self::error::{IdentifyError, SearchError};
-pub use self::plan::{evaluate_points, plan, PointOutcome};
+pub use self::plan::{evaluate_points, plan, Evaluated, PointOutcome};
 pub use self::settings::{
     Method, NoiseModel, ProfileRequest, Progress, Settings, Silent, Start, Weighting, DEFAULT_PLAN,
     DEFAULT_RESTARTS, DEFAULT_STARTS,
@@ -52,7 +57,7 @@ pub use self::settings::{
 pub use crate::identification::result::StartFailure;
 
 use self::assemble::{assemble, Found};
-use self::plan::PlanRun;
+use self::plan_run::PlanRun;
 use self::searcher::Searcher;
 use crate::identification::output_error::OutputError;
 use crate::identification::plan::Plan;
@@ -63,7 +68,7 @@ use crate::identification::verdict::StartEnd;
 use std::time::Instant;
 
 /// Runs the identification of `problem`'s parameters: [`plan`], then
-/// [`evaluate_points`] on every point, then [`finish`].
+/// [`evaluate_abandoning`], then [`finish`].
 pub fn identify(
     problem: OutputError<'_>,
     settings: &Settings,
@@ -85,23 +90,21 @@ pub fn identify(
         },
     )?;
     progress.plan_started(plan.len());
-    let all: Vec<usize> = (0..plan.len()).collect();
-    let outcomes = evaluate_points(&problem, &plan, &all, progress);
+    let states = evaluate_abandoning(&problem, &plan, keep(settings), progress);
     if problem.cancel().is_set() {
         return Err(IdentifyError::Cancelled);
     }
-    finish(
-        problem,
-        settings,
-        &plan,
-        outcomes?,
-        t_start.elapsed().as_secs_f64(),
-        progress,
-    )
+    let points = PlanPoints {
+        states: states?,
+        known: None,
+    };
+    let plan_seconds = t_start.elapsed().as_secs_f64();
+    finish(problem, settings, &plan, points, plan_seconds, progress)
 }
 
-/// Continues an identification from J at every plan point (`outcomes[k]`
-/// for `plan.point(k)`, from [`evaluate_points`], possibly in pieces):
+/// Continues an identification from the plan's points (`points.states[k]`
+/// for `plan.point(k)`, from [`evaluate_abandoning`], or from
+/// [`evaluate_points`] in pieces through [`replay`]):
 /// local searches from the best points, reweighting, restarts, the
 /// accuracy check, Cramér–Rao bounds and the verdict. `plan_seconds` is
 /// the wall time the plan took. A run whose criterion was cancelled
@@ -111,12 +114,12 @@ pub fn finish(
     problem: OutputError<'_>,
     settings: &Settings,
     plan: &Plan,
-    outcomes: Vec<PointOutcome>,
+    points: PlanPoints,
     plan_seconds: f64,
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
     let cancel = problem.cancel().clone();
-    let result = finish_stages(problem, settings, plan, outcomes, plan_seconds, progress);
+    let result = finish_stages(problem, settings, plan, points, plan_seconds, progress);
     match cancel.is_set() {
         true => Err(IdentifyError::Cancelled),
         false => result,
@@ -128,7 +131,7 @@ fn finish_stages(
     mut problem: OutputError<'_>,
     settings: &Settings,
     plan: &Plan,
-    outcomes: Vec<PointOutcome>,
+    points: PlanPoints,
     plan_seconds: f64,
     progress: &dyn Progress,
 ) -> Result<IdentificationResult, IdentifyError> {
@@ -139,13 +142,13 @@ fn finish_stages(
     }
     // Until the accuracy stage, the searches take the steps a search may.
     problem.use_search_steps();
-    let plan = PlanRun::new(&problem, settings, plan, outcomes)?;
+    let mut plan = PlanRun::new(&problem, settings, plan, points)?;
     let before = problem.tally();
     let searcher = Searcher::new(settings, problem.n_params(), progress)?;
     let t_local = Instant::now();
     let mut ends = starts::run(&problem, &searcher, &plan)?;
     weights::before_restarts(&mut problem, &searcher, &mut ends)?;
-    let judged = restarts::run(&problem, &searcher, &plan, &mut ends);
+    let judged = restarts::run(&problem, &searcher, &mut plan, &mut ends);
     let (best, kept) = best_end(&problem, ends.searches, &judged)
         .ok_or_else(|| IdentifyError::AllStartsFailed(ends.failures.clone()))?;
     let best = match settings.weighting {
@@ -179,7 +182,8 @@ fn finish_stages(
         .chain(ends.warnings)
         .chain(profile_warnings)
         .collect();
-    let tally = plan.tally + (problem.tally() - before);
+    let tally = plan.tally() + (problem.tally() - before);
+    let (completion, completion_seconds) = plan.completion_work();
     let found = Found {
         plan: &plan,
         best,
@@ -190,11 +194,13 @@ fn finish_stages(
         failed_starts: ends.failures,
         tally,
         timings: Timings {
-            plan: plan_seconds,
-            local_search: t_local,
+            plan: plan_seconds + completion_seconds,
+            local_search: t_local - completion_seconds,
             uncertainty: t_bounds,
             profiles: t_profiles,
             total: plan_seconds + t_finish.elapsed().as_secs_f64(),
+            searches: searcher.times(),
+            simulations: problem.work() + completion,
         },
         profiles,
     };

@@ -5,7 +5,8 @@
 //! one passes, the restarts run out, or [`AGREEING`] restarts come back to
 //! the lowest minimum found so far (within the verdict's minima threshold).
 //! Deterministic: the candidates follow the
-//! plan's ranking.
+//! plan's ranking, exact as far as it goes (abandoned points that might
+//! rank before a candidate are evaluated to the end first: `plan_run`).
 //!
 //! No restart runs when the bounds at the best end already show parameters
 //! that cannot be told apart (a singular Fisher matrix, or correlations
@@ -14,12 +15,11 @@
 //! so first, and the verdict names the combinations the data fix.
 use super::bounds::{self, BoundsError};
 use super::judge::fit_passes;
-use super::plan::PlanRun;
+use super::plan_run::PlanRun;
 use super::searcher::Searcher;
 use super::settings::Start;
 use super::starts::Ends;
 use crate::identification::output_error::OutputError;
-use crate::identification::plan_eval::rank;
 use crate::identification::problem::LeastSquares;
 use crate::identification::result::StartFailure;
 use crate::identification::uncertainty::{IdentifiabilityWarning, UncertaintyError};
@@ -58,7 +58,7 @@ impl Judged {
 pub(super) fn run(
     problem: &OutputError<'_>,
     searcher: &Searcher<'_>,
-    plan: &PlanRun<'_>,
+    plan: &mut PlanRun<'_, '_>,
     ends: &mut Ends,
 ) -> Judged {
     let s = searcher.settings();
@@ -75,19 +75,17 @@ pub(super) fn run(
         ends.restart_warning = Some(warning);
         return Judged::default();
     }
-    let mut visited: Vec<Vec<f64>> = ends
-        .used
-        .iter()
-        .map(|&i| plan.plan.point(i).to_vec())
-        .collect();
-    visited.extend(ends.searches.iter().map(|e| e.u.clone()));
+    let mut visited = starts_and_ends(plan, ends);
     let mut tried = 0;
     let mut agreeing = Agreement::default();
-    for idx in rank(&plan.outcomes) {
-        let Ok(cost) = plan.outcomes[idx] else { break };
-        if tried == s.restarts {
+    let mut position = 0;
+    while tried < s.restarts {
+        // The next point by J; abandoned points are evaluated to the end
+        // first where they might rank before it.
+        let Some((idx, cost)) = plan.ranked(position) else {
             break;
-        }
+        };
+        position += 1;
         let p = plan.plan.point(idx);
         if ends.used.contains(&idx) || visited.iter().any(|v| distance(v, p) < DISTINCT) {
             continue;
@@ -133,6 +131,14 @@ pub(super) fn run(
     Judged {
         passed: found.then_some(passed),
     }
+}
+
+/// The points searched from and the searches' ends so far.
+fn starts_and_ends(plan: &PlanRun<'_, '_>, ends: &Ends) -> Vec<Vec<f64>> {
+    let starts = ends.used.iter().map(|&i| plan.plan.point(i).to_vec());
+    starts
+        .chain(ends.searches.iter().map(|e| e.u.clone()))
+        .collect()
 }
 
 /// [`Warning::RidgeNotRestarted`] naming the parameters that cannot be

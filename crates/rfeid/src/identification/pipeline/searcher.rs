@@ -11,6 +11,8 @@ use crate::identification::search::{LocalSearch, Method, SearchOutcome};
 use crate::identification::warning::Warning;
 use crate::model::Model;
 use crate::simulation::{Response, Simulator};
+use std::sync::Mutex;
+use std::time::Instant;
 
 /// The settings of every local search of one run.
 pub(super) struct Searcher<'s> {
@@ -22,6 +24,8 @@ pub(super) struct Searcher<'s> {
     /// freedom), instead of polishing a minimum the whole record moves.
     window_lm: LmSettings,
     progress: &'s dyn Progress,
+    /// Wall time of each search from a start, s, in order.
+    times: Mutex<Vec<f64>>,
 }
 
 impl<'s> Searcher<'s> {
@@ -35,7 +39,14 @@ impl<'s> Searcher<'s> {
             settings,
             window_lm: settings.lm.clone().with_decrement_tolerance(r as f64)?,
             progress,
+            times: Mutex::new(Vec::new()),
         })
+    }
+
+    /// The wall time of each search from a start ([`Searcher::start_search`]),
+    /// s, in the order they ran.
+    pub fn times(&self) -> Vec<f64> {
+        self.times.lock().map(|t| t.clone()).unwrap_or_default()
     }
 
     /// The settings.
@@ -88,6 +99,21 @@ impl<'s> Searcher<'s> {
     /// search that fails is a warning, and the start searches the whole
     /// record from where it was.
     pub fn start_search(
+        &self,
+        problem: &OutputError<'_>,
+        u0: &[f64],
+        warnings: &mut Vec<Warning>,
+    ) -> Result<SearchOutcome, SearchError> {
+        let started = Instant::now();
+        let outcome = self.start_search_untimed(problem, u0, warnings);
+        if let Ok(mut t) = self.times.lock() {
+            t.push(started.elapsed().as_secs_f64());
+        }
+        outcome
+    }
+
+    /// [`Searcher::start_search`] without its time.
+    fn start_search_untimed(
         &self,
         problem: &OutputError<'_>,
         u0: &[f64],

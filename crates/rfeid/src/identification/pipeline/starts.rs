@@ -2,7 +2,7 @@
 //! from the parameters' values), each failed start recorded rather than
 //! ending the run.
 use super::error::{IdentifyError, SearchError};
-use super::plan::PlanRun;
+use super::plan_run::PlanRun;
 use super::searcher::Searcher;
 use super::settings::Start;
 use crate::identification::output_error::OutputError;
@@ -30,7 +30,7 @@ pub(super) struct Ends {
 pub(super) fn run(
     problem: &OutputError<'_>,
     searcher: &Searcher<'_>,
-    plan: &PlanRun<'_>,
+    plan: &PlanRun<'_, '_>,
 ) -> Result<Ends, IdentifyError> {
     let mut warnings = Vec::new();
     let (searches, failures) = match searcher.settings().start {
