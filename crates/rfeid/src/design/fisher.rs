@@ -108,6 +108,42 @@ fn noise_of(s: &Sensor, candidate: bool) -> Result<f64, DesignError> {
     })
 }
 
+/// σ₀ ([`FisherParts::noise_scale`]) and the weight of each sensor of
+/// `models` (each experiment's placed sensors, then its `n_extra` read
+/// for the candidates, the first `n_direct` of them candidates themselves).
+fn noise_weights(
+    model: &Model,
+    models: &[(String, Model, usize)],
+    n_extra: usize,
+    n_direct: usize,
+) -> Result<(f64, Vec<f64>), DesignError> {
+    // σ₀ from the placed sensors (each experiment's) and the candidates;
+    // placed sensors and direct candidates weighted by (σ₀/σ)², a basis
+    // (unit noise, read by its members) by 1 and its members by (σ₀/σ)²
+    // in `member_shares`.
+    let mut sigmas = Vec::new();
+    for (_, m, _) in models {
+        for s in &m.sensors[..m.sensors.len() - n_extra] {
+            sigmas.push(noise_of(s, false)?);
+        }
+    }
+    sigmas.extend(model.candidates.iter().filter_map(|c| c.noise));
+    let noise_scale = common_scale(&sigmas);
+    let mut weights = Vec::new();
+    for (_, m, _) in models {
+        let weighted = m.sensors.len() - n_extra + n_direct;
+        for (c, s) in m.sensors.iter().enumerate() {
+            let sigma = noise_of(s, c >= weighted)?;
+            weights.push(if c < weighted {
+                (noise_scale / sigma).powi(2)
+            } else {
+                1.0
+            });
+        }
+    }
+    Ok((noise_scale, weights))
+}
+
 /// σ₀: the geometric mean of the noises `sigmas` (each positive, with σ²
 /// and 1/σ² finite, as the model file's rule has them), 1 if there are
 /// none.
@@ -172,30 +208,7 @@ pub fn fisher_parts_with(
     if models.is_empty() {
         return Err(DesignError::NoFittedExperiment);
     }
-    // σ₀ from the placed sensors (each experiment's) and the candidates;
-    // placed sensors and direct candidates weighted by (σ₀/σ)², a basis
-    // (unit noise, read by its members) by 1 and its members by (σ₀/σ)²
-    // in `member_shares`.
-    let mut sigmas = Vec::new();
-    for (_, m, _) in &models {
-        for s in &m.sensors[..m.sensors.len() - extra.len()] {
-            sigmas.push(noise_of(s, false)?);
-        }
-    }
-    sigmas.extend(model.candidates.iter().filter_map(|c| c.noise));
-    let noise_scale = common_scale(&sigmas);
-    let mut weights = Vec::new();
-    for (_, m, _) in &models {
-        let weighted = m.sensors.len() - extra.len() + layout.direct.len();
-        for (c, s) in m.sensors.iter().enumerate() {
-            let sigma = noise_of(s, c >= weighted)?;
-            weights.push(if c < weighted {
-                (noise_scale / sigma).powi(2)
-            } else {
-                1.0
-            });
-        }
-    }
+    let (noise_scale, weights) = noise_weights(model, &models, extra.len(), layout.direct.len())?;
     let parts = models
         .iter()
         .map(|(name, m, first)| {
