@@ -1,14 +1,15 @@
 //! `design`: `rfeid design` from Python (SPEC §6): predicted standard
 //! errors of a planned test, and the D-optimal choice of candidate sensors.
-use super::errors::{model_error, option_error, option_text, setting_error, simulation_error};
+use super::errors::{model_error, option_error, setting_error, simulation_error};
 use super::model::PyModel;
 use super::result::write_report;
 use super::watch::{watched, Counters};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design as run_design, Design, DesignError, DesignSettings};
 use rfeid::identification::cancel::Cancel;
-use rfeid::identification::options::check_threads;
+use rfeid::identification::options::{check_threads, Spelling};
 use rfeid::model::{set_values, Model};
 use std::path::PathBuf;
 
@@ -62,14 +63,21 @@ pub fn design(
         .as_ref()
         .map_or("the model".into(), |p| p.display().to_string());
     check_threads(threads).map_err(|e| option_error(&e))?;
-    check_request(&model.model, &label, choose, over_box).map_err(|e| match e.of_model() {
-        true => model_error(e),
-        false => option_text(e),
+    check_request(&model.model, &label, choose, over_box).map_err(|e| {
+        let text = e.option_error().spelt(Spelling::Keyword);
+        match e.of_model() {
+            true => model_error(text),
+            false => PyValueError::new_err(text),
+        }
     })?;
     let mut values = model.model.nominal();
-    let notes = set_values::apply_sets_to_campaign(&model.model, &set, &mut values)
-        .map_err(setting_error)?;
-    let at = at_values(model.model.clone(), values).map_err(model_error)?;
+    let notes: Vec<String> = set_values::apply_sets_to_campaign(&model.model, &set, &mut values)
+        .map_err(setting_error)?
+        .iter()
+        .map(|w| w.spelt(Spelling::Keyword))
+        .collect();
+    let at = at_values(model.model.clone(), values)
+        .map_err(|e| model_error(e.option_error().spelt(Spelling::Keyword)))?;
     let cancel = Cancel::new();
     let settings = DesignSettings {
         choose,
@@ -88,6 +96,7 @@ pub fn design(
         DesignError::Simulation(s) => simulation_error("simulating at the parameters' values", &s),
         DesignError::EveryPointFailed { .. } => super::errors::failed(e),
         DesignError::Cancelled => super::errors::failed(e),
+        DesignError::Option(o) => model_error(format!("{label}: {}", o.spelt(Spelling::Keyword))),
         other => model_error(format!("{label}: {other}")),
     })?;
     let inputs = model

@@ -7,7 +7,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::PyErr;
 use rfeid::error_kind::{ErrorKind, Kind};
 use rfeid::identification::campaign::CampaignError;
-use rfeid::identification::options::{keyword_spelling, OptionError, PrepareError};
+use rfeid::identification::options::{OptionError, PrepareError, Spelling};
 use rfeid::identification::pipeline::IdentifyError;
 use rfeid::simulation::SimulationError;
 
@@ -36,10 +36,10 @@ pub fn model_error(e: impl std::fmt::Display) -> PyErr {
 }
 
 /// A setting of the model that cannot be used (`set`, `tolerance`,
-/// `substeps`: [`rfeid::model::set_values`]), its words spelt with the
-/// keywords ([`keyword_spelling`]: `set a_n9: …`, `tolerance=0e0: …`).
-pub fn setting_error(e: impl std::fmt::Display) -> PyErr {
-    ModelError::new_err(keyword_spelling(&e.to_string()))
+/// `substeps`: [`rfeid::model::set_values`]), spelt with the keywords
+/// (`set: unknown parameter 'a_n9' …`, `tolerance=0e0: …`).
+pub fn setting_error(e: OptionError) -> PyErr {
+    ModelError::new_err(e.spelt(Spelling::Keyword))
 }
 
 /// Bad data.
@@ -54,17 +54,7 @@ pub fn failed(e: impl std::fmt::Display) -> PyErr {
 
 /// An option out of range, named as a keyword argument (`plan=0: …`).
 pub fn option_error(e: &OptionError) -> PyErr {
-    let name = match e.option {
-        "from" => "from_",
-        other => other,
-    };
-    PyValueError::new_err(e.spelt(name, "="))
-}
-
-/// A keyword's value refused, with the library's message spelt with
-/// keywords ([`keyword_spelling`]).
-pub fn option_text(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(keyword_spelling(&e.to_string()))
+    PyValueError::new_err(e.spelt(Spelling::Keyword))
 }
 
 /// A library error as the module's exception, by whose fault it is
@@ -79,7 +69,7 @@ pub fn py_error<E: Kind + std::fmt::Display>(e: E) -> PyErr {
     match e.kind() {
         ErrorKind::Model => ModelError::new_err(e.to_string()),
         ErrorKind::Data => DataError::new_err(e.to_string()),
-        ErrorKind::Option => PyValueError::new_err(keyword_spelling(&e.to_string())),
+        ErrorKind::Option => PyValueError::new_err(e.to_string()),
         ErrorKind::Failed => IdentificationError::new_err(e.to_string()),
         ErrorKind::Interrupted => PyKeyboardInterrupt::new_err(e.to_string()),
     }

@@ -4,7 +4,7 @@ use super::data::f64_bytes;
 use super::errors::{model_error, setting_error, simulation_error};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use rfeid::identification::options::keyword_spelling;
+use rfeid::identification::options::Spelling;
 use rfeid::io::digest::file_digest;
 use rfeid::io::model_file::{load_model_for, parse_model, Purpose};
 use rfeid::measurement::simulated::{simulate_record, NoiseSpec, SimulatedError};
@@ -230,7 +230,7 @@ impl PyModel {
         let warnings: Vec<String> = set_values::apply_sets(&model, &set, &mut params)
             .map_err(setting_error)?
             .iter()
-            .map(|w| keyword_spelling(w))
+            .map(|w| w.spelt(Spelling::Keyword))
             .collect();
         let spec = noise.map(|fraction| NoiseSpec {
             fraction,
@@ -273,6 +273,6 @@ impl PyModel {
 fn simulated_error(e: &SimulatedError) -> PyErr {
     match e {
         SimulatedError::Steps(s) => simulation_error("choosing the integrator's steps", s),
-        _ => super::errors::option_text(e),
+        SimulatedError::Option(o) => super::errors::option_error(o),
     }
 }

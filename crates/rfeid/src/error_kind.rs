@@ -3,6 +3,8 @@
 //! failed computation 1) and the Python module to its exception
 //! (`ModelError`, `DataError`, `ValueError`, `IdentificationError`,
 //! `KeyboardInterrupt`), each in one place.
+use crate::design::json::RequestError;
+use crate::design::DesignError;
 use crate::identification::campaign::CampaignError;
 use crate::identification::options::{OptionError, PrepareError};
 use crate::identification::pipeline::IdentifyError;
@@ -11,6 +13,7 @@ use crate::identification::shard::MergeError;
 use crate::identification::validation::ValidationError;
 use crate::io::shard_file::{ResumeError, ShardError};
 use crate::measurement::measured::MeasuredError;
+use crate::measurement::simulated::SimulatedError;
 use crate::report::at_estimate::RenderError;
 use crate::simulation::SimulationError;
 
@@ -174,6 +177,56 @@ impl Kind for MergeError {
         match self {
             MergeError::Shards(_) => ErrorKind::Data,
             MergeError::Identify(e) => e.kind(),
+        }
+    }
+}
+
+impl Kind for SimulatedError {
+    fn kind(&self) -> ErrorKind {
+        match self {
+            SimulatedError::Steps(e) => e.kind(),
+            SimulatedError::Option(e) => e.kind(),
+        }
+    }
+    fn option_error(&self) -> Option<&OptionError> {
+        match self {
+            SimulatedError::Option(e) => Some(e),
+            SimulatedError::Steps(_) => None,
+        }
+    }
+}
+
+impl Kind for RequestError {
+    /// A model that cannot give what is asked is the model's fault, an
+    /// option out of range the option's.
+    fn kind(&self) -> ErrorKind {
+        match self.of_model() {
+            true => ErrorKind::Model,
+            false => ErrorKind::Option,
+        }
+    }
+    fn option_error(&self) -> Option<&OptionError> {
+        Some(RequestError::option_error(self))
+    }
+}
+
+impl Kind for DesignError {
+    /// A failed simulation is the computation's (or, at values the model
+    /// cannot take, the model's); a sensor without noise, a model without
+    /// parameters or a fitted experiment, the model's.
+    fn kind(&self) -> ErrorKind {
+        match self {
+            DesignError::Option(e) => e.kind(),
+            DesignError::Simulation(e) => e.kind(),
+            DesignError::Cancelled => ErrorKind::Interrupted,
+            DesignError::EveryPointFailed { .. } | DesignError::Plan(_) => ErrorKind::Failed,
+            _ => ErrorKind::Model,
+        }
+    }
+    fn option_error(&self) -> Option<&OptionError> {
+        match self {
+            DesignError::Option(e) => Some(e),
+            _ => None,
         }
     }
 }

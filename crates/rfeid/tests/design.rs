@@ -7,6 +7,7 @@ use nalgebra::DMatrix;
 use rfeid::design::choose::{choose, criterion, log_det};
 use rfeid::design::fisher::fisher_parts;
 use rfeid::design::{bound, design, DesignError, DesignSettings};
+use rfeid::identification::options::Spelling;
 use rfeid::identification::output_error::OutputError;
 use rfeid::identification::problem::LeastSquares;
 use rfeid::identification::uncertainty::{cramer_rao_mapped, UncertaintySettings};
@@ -458,9 +459,23 @@ fn a_model_with_candidates_alone_needs_design_and_choose() {
         "{msg}"
     );
     let e = design(&model, &DesignSettings::default(), &|| {}).unwrap_err();
-    assert_eq!(e, DesignError::NoPlacedSensor);
+    let DesignError::Option(o) = e else {
+        panic!("{e:?}")
+    };
+    assert!(
+        o.option == "choose" && o.detail.starts_with("is needed"),
+        "{o}"
+    );
     let e = rfeid::design::json::check_request(&model, "unplaced.toml", None, None).unwrap_err();
-    assert!(e.of_model() && e.to_string().contains("--choose K"), "{e}");
+    let cli = e.option_error().spelt(Spelling::CommandLine);
+    assert!(
+        e.of_model() && cli.starts_with("--choose is needed"),
+        "{cli}"
+    );
+    assert!(
+        cli.contains("(--choose K)") && !e.to_string().contains("--"),
+        "{e}"
+    );
 }
 
 /// A chosen candidate on a body no force reaches (held to the ground on

@@ -150,7 +150,7 @@ fn the_unfitted_lead_in_and_the_reference_are_shown() {
     let truth: Vec<f64> = result.parameters.iter().map(|p| p.nominal).collect();
     let d = data(&model, 500);
     let html = render_html(&input(&model, &result, &d, Some(&truth))).expect("renders");
-    assert!(html.contains("not fitted (before --from)"));
+    assert!(html.contains("not fitted (before `from`)"));
     assert!(html.contains("Worst |estimate − reference|:</b> 1.00 % of the reference"));
     let intervals = figure(&html, "Estimates within their boxes");
     assert!(intervals.contains(">reference</text>"));

@@ -6,7 +6,7 @@ use crate::cli::DesignArgs;
 use crate::diagnostics::Failure;
 use crate::outputs::Plan;
 use crate::run::design_text::print_design;
-use crate::run::failures::simulation_failure;
+use crate::run::failures::{failure, option_text, simulation_failure};
 use crate::run::inputs::{apply_campaign_sets, load_for};
 use crate::run::limits::start_threads;
 use crate::run::show::json_conflict;
@@ -36,10 +36,10 @@ pub fn run(args: DesignArgs, ui: &Ui) -> Result<(), Failure> {
     let outputs = plan.check()?;
     json_conflict(ui, &outputs)?;
     let label = args.model.display().to_string();
-    check_request(&model, &label, args.choose, args.over_box).map_err(Failure::input_msg)?;
+    check_request(&model, &label, args.choose, args.over_box).map_err(failure)?;
     let mut values = model.nominal();
     apply_campaign_sets(&model, &args.set, &mut values)?;
-    let model = at_values(model, values).map_err(Failure::input_msg)?;
+    let model = at_values(model, values).map_err(failure)?;
     start_threads(args.threads)?;
     let settings = DesignSettings {
         choose: args.choose,
@@ -89,6 +89,9 @@ fn design_failure(args: &DesignArgs, e: DesignError) -> Failure {
     match e {
         DesignError::Simulation(s) => simulation_failure("simulating at the parameters' values", s),
         DesignError::EveryPointFailed { .. } => Failure::failed(e.to_string()),
+        DesignError::Option(o) => {
+            Failure::input_msg(format!("{}: {}", args.model.display(), option_text(&o)))
+        }
         other => Failure::input_msg(format!("{}: {other}", args.model.display())),
     }
 }

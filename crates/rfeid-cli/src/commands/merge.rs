@@ -55,7 +55,7 @@ pub fn run(args: MergeArgs, ui: &Ui) -> Result<(), Failure> {
     let mut options = first.search.options(args.threads);
     options.profiles = profile_request(&args.profile);
     let model = set_values::stepped(model, first.search.tolerance, first.search.substeps)
-        .map_err(Failure::input_msg)?;
+        .map_err(failure)?;
     let (problem, settings, progress) = prepare_options(&model, measured.clone(), &options, ui)?;
     progress.bar.finish_and_clear();
     let mut result = merge_shards(problem, &settings, &shards, &progress).map_err(merge_failure)?;

@@ -2,7 +2,7 @@
 //! computation (exit 1).
 use crate::diagnostics::Failure;
 use rfeid::error_kind::{ErrorKind, Kind};
-use rfeid::identification::options::OptionError;
+use rfeid::identification::options::{OptionError, Spelling};
 use rfeid::identification::pipeline::IdentifyError;
 use rfeid::measurement::simulated::SimulatedError;
 use rfeid::measurement::NoiseError;
@@ -17,11 +17,11 @@ pub fn simulation_failure(what: &str, e: SimulationError) -> Failure {
 }
 
 /// A simulated record's failure ([`SimulatedError`]): a failed
-/// simulation as [`simulation_failure`] says, the rest bad input.
+/// simulation as [`simulation_failure`] says, the rest an option's.
 pub fn simulation_failure_of(e: SimulatedError) -> Failure {
     match &e {
         SimulatedError::Steps(s) => simulation_failure_kind(s, &e),
-        _ => Failure::input_msg(e),
+        SimulatedError::Option(_) => failure(e),
     }
 }
 
@@ -54,7 +54,7 @@ pub fn failure<E: Kind + std::fmt::Display>(e: E) -> Failure {
 
 /// An option's error as the command line spells it: `--plan 0: …`.
 pub fn option_text(e: &OptionError) -> String {
-    e.spelt(&format!("--{}", e.option.replace('_', "-")), " ")
+    e.spelt(Spelling::CommandLine)
 }
 
 /// An identification error as a failure ([`failure`]).

@@ -3,6 +3,7 @@
 //! [`rfeid::model::set_values`].
 use crate::cli::StepArgs;
 use crate::diagnostics::{model_error, Failure};
+use crate::run::failures::{failure, option_text};
 use crate::ui::Ui;
 use rfeid::io::model_file::{load_model_for, Purpose};
 use rfeid::measurement::measured::measured_from_file;
@@ -42,8 +43,9 @@ pub fn load_data(path: &Path, model: &Model, ui: &Ui) -> Result<Response, Failur
 /// ([`set_values::apply_sets`]); a value outside the parameter's box is
 /// warned about, not refused.
 pub fn apply_sets(model: &Model, sets: &[String], params: &mut [f64]) -> Result<(), Failure> {
-    let warnings = set_values::apply_sets(model, sets, params).map_err(Failure::input_msg)?;
+    let warnings = set_values::apply_sets(model, sets, params).map_err(failure)?;
     for w in warnings {
+        let w = option_text(&w);
         tracing::warn!("{w}");
         eprintln!("warning: {w}");
     }
@@ -60,17 +62,17 @@ pub fn apply_campaign_sets(
     sets: &[String],
     params: &mut [f64],
 ) -> Result<(), Failure> {
-    set_values::apply_sets_to_campaign(model, sets, params).map_err(Failure::input_msg)?;
+    set_values::apply_sets_to_campaign(model, sets, params).map_err(failure)?;
     Ok(())
 }
 
 /// The model with parameters fixed for one run (`identify --set
 /// NAME=VALUE`, [`set_values::fixed`]).
 pub fn fixed(model: Model, sets: &[String]) -> Result<Model, Failure> {
-    set_values::fixed(model, sets).map_err(Failure::input_msg)
+    set_values::fixed(model, sets).map_err(failure)
 }
 
 /// The model with `--tolerance` and `--substeps` applied to its sampling.
 pub fn stepped(model: Model, a: &StepArgs) -> Result<Model, Failure> {
-    set_values::stepped(model, a.tolerance, a.substeps).map_err(Failure::input_msg)
+    set_values::stepped(model, a.tolerance, a.substeps).map_err(failure)
 }

@@ -3,6 +3,7 @@
 //! request (`choose`, `over_box`, values inside the box).
 use super::predict::{warning_texts, Prediction};
 use super::Design;
+use crate::identification::options::OptionError;
 use crate::model::{ColumnName, Model, Parameter};
 use serde_json::{json, Value};
 
@@ -11,26 +12,37 @@ pub const MAX_OVER_BOX: usize = 4096;
 
 /// A design asked for that cannot be made: an option out of range, or a
 /// model that cannot give what is asked (no candidates; values outside the
-/// box), as [`RequestError::of_model`] says.
+/// box), as [`RequestError::of_model`] says. Either way the message is an
+/// option's ([`OptionError`]), for each front end to spell.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{text}")]
+#[error("{error}")]
 pub struct RequestError {
-    text: String,
+    error: OptionError,
     model: bool,
 }
 
 impl RequestError {
-    fn option(text: String) -> Self {
-        RequestError { text, model: false }
+    fn option(option: &'static str, detail: String) -> Self {
+        let error = OptionError::new(option, detail);
+        RequestError {
+            error,
+            model: false,
+        }
     }
 
-    fn model(text: String) -> Self {
-        RequestError { text, model: true }
+    fn model(option: &'static str, detail: String) -> Self {
+        let error = OptionError::new(option, detail);
+        RequestError { error, model: true }
     }
 
     /// Whether the model (rather than an option) is at fault.
     pub fn of_model(&self) -> bool {
         self.model
+    }
+
+    /// The option the message is about.
+    pub fn option_error(&self) -> &OptionError {
+        &self.error
     }
 }
 
@@ -44,31 +56,40 @@ pub fn check_request(
     over_box: Option<usize>,
 ) -> Result<(), RequestError> {
     if model.sensors.is_empty() && choose.is_none() {
-        return Err(RequestError::model(format!(
-            "{model_label}: no sensor is placed (every [[sensor]] is a candidate): give --choose K to choose where K sensors go; the choice is then compared with no sensor"
-        )));
+        return Err(RequestError::model("choose", no_placed_sensor(model_label)));
     }
     if let Some(k) = choose {
         if k == 0 {
             return Err(RequestError::option(
-                "--choose 0: choose at least one sensor".into(),
+                "choose",
+                "0: choose at least one sensor".into(),
             ));
         }
         if model.candidates.is_empty() {
-            return Err(RequestError::model(format!(
-                "--choose {k}: {model_label} has no candidate sensors: mark the places a sensor could go with `candidate = true` in their [[sensor]] entries"
+            return Err(RequestError::model("choose", format!(
+                "{k}: {model_label} has no candidate sensors: mark the places a sensor could go with `candidate = true` in their [[sensor]] entries"
             )));
         }
     }
     match (over_box, choose) {
         (Some(_), None) => Err(RequestError::option(
-            "--over-box without --choose: the box design chooses sensors; give --choose K".into(),
+            "over_box",
+            "without `choose`: the box design chooses sensors; give `choose` too".into(),
         )),
-        (Some(n), _) if !(1..=MAX_OVER_BOX).contains(&n) => Err(RequestError::option(format!(
-            "--over-box {n}: must be 1 to {MAX_OVER_BOX} points"
-        ))),
+        (Some(n), _) if !(1..=MAX_OVER_BOX).contains(&n) => Err(RequestError::option(
+            "over_box",
+            format!("{n}: must be 1 to {MAX_OVER_BOX} points"),
+        )),
         _ => Ok(()),
     }
+}
+
+/// What `choose` not given says of `model_label`, a model that places no
+/// sensor.
+pub(crate) fn no_placed_sensor(model_label: &str) -> String {
+    format!(
+        "is needed: {model_label} places no sensor (every [[sensor]] is a candidate), so the design chooses where K sensors go (`choose` K) and compares them with no sensor"
+    )
 }
 
 /// The model with its parameters' values set to `values` (SI), each of
@@ -76,8 +97,8 @@ pub fn check_request(
 pub fn at_values(mut model: Model, values: Vec<f64>) -> Result<Model, RequestError> {
     for (p, v) in model.parameters.iter().zip(&values) {
         if let Some((lo, hi)) = p.bounds.filter(|(lo, hi)| !(lo..=hi).contains(&v)) {
-            return Err(RequestError::model(format!(
-                "--set {}: {v:e} lies outside its box [{lo:e}, {hi:e}] (SI): a design predicts inside the box; widen min and max in the model file to design there",
+            return Err(RequestError::model("set", format!(
+                "{}: {v:e} lies outside its box [{lo:e}, {hi:e}] (SI): a design predicts inside the box; widen min and max in the model file to design there",
                 p.name
             )));
         }

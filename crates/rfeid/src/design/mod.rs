@@ -19,6 +19,7 @@ pub mod json;
 pub mod over_box;
 pub mod predict;
 
+use crate::identification::options::OptionError;
 use crate::identification::uncertainty::UncertaintySettings;
 use crate::model::Model;
 use crate::simulation::SimulationError;
@@ -42,20 +43,12 @@ pub enum DesignError {
         /// Its reading's unit.
         unit: String,
     },
-    /// A box design would hold too many Fisher matrices.
-    #[error("--over-box {points} with {candidates} candidates would hold {gib:.1} GiB of Fisher matrices (at most 4 GiB): use fewer points")]
-    TooLarge {
-        /// Points asked for.
-        points: usize,
-        /// Candidates.
-        candidates: usize,
-        /// Memory needed, GiB.
-        gib: f64,
-    },
-    /// No sensor is placed (every `[[sensor]]` is a candidate) and none is
-    /// to be chosen: there is no test to predict.
-    #[error("no sensor is placed (every [[sensor]] is a candidate): give --choose K to choose where K sensors go; the choice is then compared with no sensor")]
-    NoPlacedSensor,
+    /// An option the design cannot take: `choose` missing where no sensor
+    /// is placed (every `[[sensor]]` a candidate: there is no test to
+    /// predict) or beyond the candidates, or `over_box` with too many
+    /// Fisher matrices to hold.
+    #[error(transparent)]
+    Option(OptionError),
     /// The model identifies no parameter.
     #[error(
         "the model identifies no parameter (none has min and max): there is nothing to design for"
@@ -73,14 +66,6 @@ pub enum DesignError {
     TooShort {
         /// The experiment.
         experiment: String,
-    },
-    /// More sensors asked for than there are candidates.
-    #[error("--choose {k}: the model has {candidates} candidate sensor(s) (`candidate = true`)")]
-    TooManyChosen {
-        /// K.
-        k: usize,
-        /// Candidates in the model.
-        candidates: usize,
     },
     /// The simulation at the parameters' values failed.
     #[error("simulating at the parameters' values: {0}")]
@@ -188,25 +173,25 @@ pub struct Design {
 /// as `settings` ask, the chosen candidates and the box design. `tick` is
 /// called once per simulation finished (progress). A model without placed
 /// sensors (read with [`crate::io::model_file::Purpose::Design`]) needs
-/// `--choose K` ([`DesignError::NoPlacedSensor`]): the K are then chosen
-/// from a base information of 0.
+/// `choose` ([`DesignError::Option`]): the K are then chosen from a base
+/// information of 0.
 pub fn design(
     model: &Model,
     settings: &DesignSettings,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Design, DesignError> {
     if model.sensors.is_empty() && settings.choose.is_none_or(|k| k == 0) {
-        return Err(DesignError::NoPlacedSensor);
+        let detail = json::no_placed_sensor("the model");
+        return Err(DesignError::Option(OptionError::new("choose", detail)));
     }
-    if let Some(k) = settings.choose {
-        if k > model.candidates.len() {
-            return Err(DesignError::TooManyChosen {
-                k,
-                candidates: model.candidates.len(),
-            });
-        }
+    if let Some(k) = settings.choose.filter(|&k| k > model.candidates.len()) {
+        let detail = format!(
+            "{k}: the model has {} candidate sensor(s) (`candidate = true`)",
+            model.candidates.len()
+        );
+        return Err(DesignError::Option(OptionError::new("choose", detail)));
     }
-    // Without --choose the candidates play no part (and need no noise).
+    // Without `choose` the candidates play no part (and need no noise).
     let without;
     let model = match settings.choose {
         Some(_) => model,

@@ -7,6 +7,7 @@ use super::fisher::{fisher_parts, FisherParts};
 use super::fisher_bound::cramer_rao_fisher;
 use super::{DesignError, DesignSettings};
 use crate::identification::box_map::BoxMap;
+use crate::identification::options::OptionError;
 use crate::identification::plan::lp_tau_plan;
 use crate::identification::uncertainty::UncertaintySettings;
 use crate::model::Model;
@@ -102,11 +103,12 @@ pub fn choose_over_box(
     let r = values.columns.len();
     let bytes = n as f64 * model.candidates.len() as f64 * (r * r * 8) as f64;
     if bytes > MAX_BYTES {
-        return Err(DesignError::TooLarge {
-            points: n,
-            candidates: model.candidates.len(),
-            gib: bytes / (1u64 << 30) as f64,
-        });
+        let detail = format!(
+            "{n} with {} candidates would hold {:.1} GiB of Fisher matrices (at most 4 GiB): use fewer points",
+            model.candidates.len(),
+            bytes / (1u64 << 30) as f64
+        );
+        return Err(DesignError::Option(OptionError::new("over_box", detail)));
     }
     let plan =
         lp_tau_plan(model.identified().len(), n).map_err(|e| DesignError::Plan(e.to_string()))?;

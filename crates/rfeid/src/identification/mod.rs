@@ -26,6 +26,7 @@ mod line_search;
 pub mod lm;
 mod lm_step;
 pub mod noise;
+pub mod option_error;
 pub mod option_names;
 pub mod options;
 pub mod output_error;

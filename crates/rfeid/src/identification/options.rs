@@ -4,6 +4,7 @@
 //! pipeline's [`Settings`] and criterion. The command line and the Python
 //! module both go through here, so the same options give the same run.
 use crate::identification::cancel::Cancel;
+pub use crate::identification::option_error::{OptionError, Spelling, OPTION_NAMES};
 pub use crate::identification::option_names::{
     name_of, named, METHODS, NOISE_MODELS, STARTS, WEIGHTS,
 };
@@ -155,35 +156,6 @@ pub enum DefaultValue {
     Name(&'static str),
 }
 
-/// An option outside its range: the option's name (snake case, as the
-/// reference names it: `plan`, `profile_points`) and what is wrong with its
-/// value. Its own words name the option in backticks (`` `plan` 0: must be
-/// … ``); each front end spells the name its own way ([`Self::spelt`]):
-/// the command line `--plan 0: …`, the Python module `plan=0: …`.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("`{option}` {detail}")]
-pub struct OptionError {
-    /// The option (`plan`, `starts`, …).
-    pub option: &'static str,
-    /// Its value and what is wrong with it (`0: must be 1 to 1000000`), or
-    /// what is wrong when no value was given.
-    pub detail: String,
-}
-
-impl OptionError {
-    pub(crate) fn new(option: &'static str, detail: String) -> Self {
-        OptionError { option, detail }
-    }
-
-    /// The message with the option spelt `name`: `name`, then `joiner`
-    /// (`" "` after a command-line flag, `"="` after a keyword) when the
-    /// detail starts with the option's value, else a space.
-    pub fn spelt(&self, name: &str, joiner: &str) -> String {
-        let sep = if is_value(&self.detail) { joiner } else { " " };
-        format!("{name}{sep}{}", self.detail)
-    }
-}
-
 /// Checks `threads` (1 to [`MAX_THREADS`]; `None`: one per core), as
 /// every command that takes it (`identify`, `design`) does.
 pub fn check_threads(threads: Option<usize>) -> Result<(), OptionError> {
@@ -194,40 +166,6 @@ pub fn check_threads(threads: Option<usize>) -> Result<(), OptionError> {
         )),
         None => Ok(()),
     }
-}
-
-/// A message of the command line with its options spelt as the Python
-/// module's keyword arguments: a leading `--name VALUE` (a number) becomes
-/// `name=VALUE`, every other `--name` becomes `name`, dashes in names
-/// become underscores, and `from` (a Python keyword) becomes `from_`.
-pub fn keyword_spelling(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    let mut first = true;
-    while let Some(at) = rest.find("--") {
-        out.push_str(&rest[..at]);
-        let after = &rest[at + 2..];
-        let len = after
-            .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
-            .unwrap_or(after.len());
-        let name = after[..len].replace('-', "_");
-        out.push_str(if name == "from" { "from_" } else { &name });
-        rest = &after[len..];
-        if first && at == 0 && rest.starts_with(' ') && is_value(&rest[1..]) {
-            out.push('=');
-            rest = &rest[1..];
-        }
-        first = false;
-    }
-    out.push_str(rest);
-    out
-}
-
-/// Whether `text` starts with a number (what follows an option's name
-/// when it is the option's value).
-fn is_value(text: &str) -> bool {
-    text.starts_with(|c: char| c.is_ascii_digit() || "+-.'".contains(c))
-        || ["inf", "nan", "NaN"].iter().any(|w| text.starts_with(w))
 }
 
 impl SearchOptions {
@@ -461,42 +399,12 @@ mod tests {
         ];
         for (o, text) in bad {
             let e = o.check().unwrap_err();
-            let cli = e.spelt(&format!("--{}", e.option), " ");
+            let cli = e.spelt(Spelling::CommandLine);
             assert!(cli.starts_with(text), "{cli}");
             assert!(!e.to_string().contains("--"), "{e}");
-            let keyword = e.spelt(e.option, "=");
+            let keyword = e.spelt(Spelling::Keyword);
             assert!(keyword.starts_with(&format!("{}=", e.option)), "{keyword}");
         }
         assert!(SearchOptions::default().check().is_ok());
-    }
-
-    #[test]
-    fn messages_are_respelt_for_keywords() {
-        assert_eq!(
-            keyword_spelling("--plan 0: must be 1 to 9"),
-            "plan=0: must be 1 to 9"
-        );
-        assert_eq!(
-            keyword_spelling("--starts 2 with --start values: once"),
-            "starts=2 with start values: once"
-        );
-        assert_eq!(
-            keyword_spelling("--from 9: must lie in [0, 1) s"),
-            "from_=9: must lie in [0, 1) s"
-        );
-        assert_eq!(
-            keyword_spelling("--over-box without --choose: give --choose K"),
-            "over_box without choose: give choose K"
-        );
-        assert_eq!(keyword_spelling("no option here"), "no option here");
-        assert_eq!(
-            keyword_spelling("--method 'x': must be one of lm, bfgs"),
-            "method='x': must be one of lm, bfgs"
-        );
-        assert_eq!(keyword_spelling("--noise -1: must be"), "noise=-1: must be");
-        assert_eq!(
-            keyword_spelling("--set a_n1: not finite"),
-            "set a_n1: not finite"
-        );
     }
 }

@@ -152,8 +152,9 @@ pub fn cases(
         Some(n) => vec![index(n)?],
         None if !model.experiments.is_empty() => (0..model.experiments.len()).collect(),
         None => {
-            let detail =
-                format!("{label} lists no experiments: give the data to check with --data FILE");
+            let detail = format!(
+                "not given: {label} lists no experiments, so the data to check must be given"
+            );
             return Err(OptionError::new("data", detail).into());
         }
     };

@@ -200,7 +200,7 @@ impl fmt::Display for Warning {
                 "the local search from the plan ended at J = {first_cost:.6e}, where the fit fails \
                  the verdict's per-sensor checks; no automatic restart ran, because the bounds \
                  there show that {} cannot be told apart (a ridge of the criterion), which no \
-                 restart changes: fix one of them (--set) or add a test that separates them",
+                 restart changes: fix one of them (`set`) or add a test that separates them",
                 parameters.join(", ")
             ),
             Warning::StepsTooCoarse {

@@ -4,6 +4,7 @@
 //! asked for (white, or low-pass filtered as an anti-alias filter leaves
 //! it; SPEC §3).
 use super::{add_filtered_noise, add_noise, check_noise, NoiseError};
+use crate::identification::options::OptionError;
 use crate::model::Model;
 #[cfg(doc)]
 use crate::simulation::aliasing::above_nyquist_after;
@@ -27,25 +28,16 @@ pub struct NoiseSpec {
 /// Why a record could not be simulated.
 #[derive(Debug, Clone, thiserror::Error)]
 pub enum SimulatedError {
-    /// A negative or non-finite noise fraction.
-    #[error("--noise {0}: must be a non-negative fraction")]
-    Fraction(f64),
-    /// A non-positive or non-finite corner frequency.
-    #[error("--noise-corner {0}: must be a positive frequency in Hz")]
-    Corner(f64),
+    /// The noise asked for cannot be made: a negative or non-finite
+    /// fraction (`noise`), a corner frequency that is not a positive one
+    /// (`noise_corner`), or noise this record cannot take (`noise`, with
+    /// the sensor concerned named).
+    #[error(transparent)]
+    Option(OptionError),
     /// The steps could not be chosen at these values, or the run at the
     /// chosen steps (the record itself, which the choice computes) failed.
     #[error("choosing the integrator's steps: {0}")]
     Steps(SimulationError),
-    /// The noise cannot be added to this record; `sensor` names the sensor
-    /// concerned, if one is.
-    #[error("--noise: {source}{}", sensor.as_ref().map(|s| format!(" ('{s}')")).unwrap_or_default())]
-    Noise {
-        /// What is wrong.
-        source: NoiseError,
-        /// The sensor's name.
-        sensor: Option<String>,
-    },
 }
 
 /// A simulated record with the simulator that made it.
@@ -66,10 +58,17 @@ pub struct Simulated<'m> {
 /// (positive, if given) before anything is simulated.
 fn check_spec(n: &NoiseSpec) -> Result<(), SimulatedError> {
     if !(n.fraction >= 0.0 && n.fraction.is_finite()) {
-        return Err(SimulatedError::Fraction(n.fraction));
+        let detail = format!("{}: must be a non-negative fraction", n.fraction);
+        return Err(SimulatedError::Option(OptionError::new("noise", detail)));
     }
     match n.corner.filter(|c| !(*c > 0.0 && c.is_finite())) {
-        Some(c) => Err(SimulatedError::Corner(c)),
+        Some(c) => {
+            let detail = format!("{c}: must be a positive frequency in Hz");
+            Err(SimulatedError::Option(OptionError::new(
+                "noise_corner",
+                detail,
+            )))
+        }
         None => Ok(()),
     }
 }
@@ -103,7 +102,9 @@ pub fn simulate_record<'m>(
                 }
                 NoiseError::BadFraction { .. } => None,
             };
-            SimulatedError::Noise { source, sensor }
+            let sensor = sensor.map(|s| format!(" ('{s}')")).unwrap_or_default();
+            let detail = format!(": {source}{sensor}");
+            SimulatedError::Option(OptionError::new("noise", detail))
         })?;
         match n.corner {
             Some(corner) => {

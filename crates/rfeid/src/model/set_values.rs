@@ -1,68 +1,73 @@
-//! Parameter values given for one run as `NAME=VALUE` (`--set` on the
-//! command line, `set={…}` in the Python module), and the integrator's
-//! `tolerance` / `substeps` given for one run. The value may carry a unit
+//! Parameter values given for one run as `NAME=VALUE` (the option `set`:
+//! `--set` on the command line, `set={…}` in the Python module), and the
+//! integrator's `tolerance` / `substeps` given for one run. The value may carry a unit
 //! (`P0=20 daN`), which must have the parameter's dimension. Edits go
 //! through the validated [`Model::with_fixed`] and [`Model::with_steps`].
 use super::{EditError, Model};
+use crate::identification::options::OptionError;
 use crate::simulation::MAX_SUBSTEPS;
 use crate::units::parse_quantity;
 
-/// A `NAME=VALUE` setting or a step option refused; the message names the
-/// setting as given.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{0}")]
-pub struct SetError(String);
+/// A `NAME=VALUE` setting or a step option refused: an option's error
+/// (`set`, `tolerance`, `substeps`), which each front end spells its own
+/// way ([`OptionError::spelt`]).
+pub type SetError = OptionError;
 
-impl SetError {
-    fn new(text: impl Into<String>) -> Self {
-        SetError(text.into())
-    }
+/// A refused setting of option `option`.
+fn refused(option: &'static str, detail: String) -> SetError {
+    OptionError::new(option, detail)
 }
 
 /// One `NAME=VALUE`: the parameter's index and the value in SI.
 pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
     let (name, value) = s
         .split_once('=')
-        .ok_or_else(|| SetError::new(format!("--set '{s}': expected NAME=VALUE")))?;
+        .ok_or_else(|| refused("set", format!("'{s}': expected NAME=VALUE")))?;
     let name = name.trim();
     let i = model.parameter_index(name).ok_or_else(|| {
         let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
-        SetError::new(format!(
-            "--set: unknown parameter '{name}' (parameters: {})",
-            known.join(", ")
-        ))
+        refused(
+            "set",
+            format!(
+                ": unknown parameter '{name}' (parameters: {})",
+                known.join(", ")
+            ),
+        )
     })?;
-    let q = parse_quantity(value).map_err(|e| SetError::new(format!("--set {name}: {e}")))?;
+    let q = parse_quantity(value).map_err(|e| refused("set", format!("{name}: {e}")))?;
     let p = &model.parameters[i];
     let bare = value.trim().parse::<f64>().is_ok();
     if !bare && q.dim != p.dimension {
-        return Err(SetError::new(format!(
-            "--set {name}: '{value}' has the dimension {}, but {name} is {}",
+        let detail = format!(
+            "{name}: '{value}' has the dimension {}, but {name} is {}",
             q.dim, p.dimension
-        )));
+        );
+        return Err(refused("set", detail));
     }
     if !q.value.is_finite() {
-        return Err(SetError::new(format!("--set {name}: not a finite number")));
+        return Err(refused("set", format!("{name}: not a finite number")));
     }
     Ok((i, q.value))
 }
 
 /// Applies `NAME=VALUE` settings to parameter values `params` (SI). A value
-/// outside the parameter's box is not refused; the warnings say which. A
-/// parameter given twice is refused.
+/// outside the parameter's box is not refused; the warnings say which, each
+/// worded as a message about `set` for the front end to spell. A parameter
+/// given twice is refused.
 pub fn apply_sets(
     model: &Model,
     sets: &[String],
     params: &mut [f64],
-) -> Result<Vec<String>, SetError> {
+) -> Result<Vec<OptionError>, SetError> {
     let mut warnings = Vec::new();
     for (i, value) in parse_once(model, sets)? {
         let p = &model.parameters[i];
         if let Some((lo, hi)) = p.bounds.filter(|&(lo, hi)| value < lo || value > hi) {
-            warnings.push(format!(
-                "--set {}: the value lies outside its box [{lo:e}, {hi:e}] (SI)",
+            let detail = format!(
+                "{}: the value lies outside its box [{lo:e}, {hi:e}] (SI)",
                 p.name
-            ));
+            );
+            warnings.push(refused("set", detail));
         }
         params[i] = value;
     }
@@ -76,7 +81,7 @@ pub fn apply_sets_to_campaign(
     model: &Model,
     sets: &[String],
     params: &mut [f64],
-) -> Result<Vec<String>, SetError> {
+) -> Result<Vec<OptionError>, SetError> {
     for (s, (i, _)) in sets.iter().zip(parse_once(model, sets)?) {
         not_set_by_experiments(model, i, s)?;
     }
@@ -89,10 +94,11 @@ fn parse_once(model: &Model, sets: &[String]) -> Result<Vec<(usize, f64)>, SetEr
     for s in sets {
         let (i, value) = parse_set(model, s)?;
         if let Some((_, _, earlier)) = given.iter().find(|(j, _, _)| *j == i) {
-            return Err(SetError::new(format!(
-                "--set '{s}': {} is already set by --set '{earlier}'; give each parameter once",
+            let detail = format!(
+                "'{s}': {} is already set by `set` '{earlier}'; give each parameter once",
                 model.parameters[i].name
-            )));
+            );
+            return Err(refused("set", detail));
         }
         given.push((i, value, s));
     }
@@ -111,17 +117,17 @@ fn not_set_by_experiments(model: &Model, i: usize, s: &str) -> Result<(), SetErr
     if setters.is_empty() {
         return Ok(());
     }
-    Err(SetError::new(format!(
-        "--set '{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
+    let detail = format!(
+        "'{s}': {} is set by the experiment{} {} of the model file (`set = {{ … }}`), which would override it; change it there",
         model.parameters[i].name,
         if setters.len() == 1 { "" } else { "s" },
         setters.join(", ")
-    )))
+    );
+    Err(refused("set", detail))
 }
 
-/// The model with parameters fixed for one run (`identify --set
-/// NAME=VALUE`): each takes its value and loses its box, so it is not
-/// identified. A parameter given twice, or one an experiment of the model
+/// The model with parameters fixed for one run (`set` of `identify`):
+/// each takes its value and loses its box, so it is not identified. A parameter given twice, or one an experiment of the model
 /// file sets itself, is refused.
 pub fn fixed(model: Model, sets: &[String]) -> Result<Model, SetError> {
     let parsed = parse_once(&model, sets)?;
@@ -140,23 +146,22 @@ pub fn stepped(
     substeps: Option<usize>,
 ) -> Result<Model, SetError> {
     model.with_steps(tolerance, substeps).map_err(|e| match e {
-        EditError::Tolerance(t) => SetError::new(format!(
-            "--tolerance {t:e}: {}",
-            crate::simulation::steps::tolerance_range_text()
-        )),
-        EditError::Substeps(s) => {
-            SetError::new(format!("--substeps {s}: must be 1 to {MAX_SUBSTEPS}"))
-        }
-        other => SetError::new(other.to_string()),
+        EditError::Tolerance(t) => refused(
+            "tolerance",
+            format!(
+                "{t:e}: {}",
+                crate::simulation::steps::tolerance_range_text()
+            ),
+        ),
+        EditError::Substeps(s) => refused("substeps", format!("{s}: must be 1 to {MAX_SUBSTEPS}")),
+        other => refused("tolerance", format!(": {other}")),
     })
 }
 
-/// A refused `--set` edit, worded like [`parse_set`]'s own refusals.
+/// A refused `set` edit, worded like [`parse_set`]'s own refusals.
 fn set_failure(e: EditError) -> SetError {
     match e {
-        EditError::NotFinite { name, .. } => {
-            SetError::new(format!("--set {name}: not a finite number"))
-        }
-        other => SetError::new(format!("--set: {other}")),
+        EditError::NotFinite { name, .. } => refused("set", format!("{name}: not a finite number")),
+        other => refused("set", format!(": {other}")),
     }
 }

@@ -120,7 +120,7 @@ pub(crate) fn fit_figure(time: &[f64], ch: &Channel, from: f64) -> String {
         ("zoom window", Key::Swatch(ZOOM_FILL)),
     ];
     if first > 0 {
-        items.push(("not fitted (before --from)", Key::Swatch(UNFITTED_FILL)));
+        items.push(("not fitted (before `from`)", Key::Swatch(UNFITTED_FILL)));
     }
     legend(&mut svg, 72.0, 16.0, &items);
     if first > 0 {
@@ -157,7 +157,7 @@ pub(crate) fn residual_figure(time: &[f64], channels: &[Channel], from: f64) -> 
         Key::Line(Stroke::new(colour::GREEN, 1.0)),
     )];
     if first > 0 {
-        items.push(("not fitted (before --from)", Key::Swatch(UNFITTED_FILL)));
+        items.push(("not fitted (before `from`)", Key::Swatch(UNFITTED_FILL)));
     }
     legend(&mut svg, 72.0, 16.0, &items);
     let (t0, t1) = finite_range(time.iter().copied());

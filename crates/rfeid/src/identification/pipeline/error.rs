@@ -20,7 +20,7 @@ pub enum IdentifyError {
     #[error("the number of starts must be at least 1")]
     NoStarts,
     /// Fewer observations than the bounds need (eq. 29: N − r − 1 > 0).
-    #[error("{observations} observations are too few for {parameters} parameters (eq. 29 needs N − r − 1 > 0); is --from too late?")]
+    #[error("{observations} observations are too few for {parameters} parameters (eq. 29 needs N − r − 1 > 0); does the fit start too late (`from`)?")]
     TooFewObservations {
         /// N.
         observations: usize,

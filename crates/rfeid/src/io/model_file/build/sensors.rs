@@ -50,8 +50,8 @@ pub(super) fn sensors(
         (true, true, _) => "the model has no [[sensor]]: nothing to simulate or identify",
         (true, false, Purpose::Measure) => {
             "every [[sensor]] is a candidate: place at least one (a sensor without \
-             `candidate = true`), as the test has one at least (only `rfeid design \
-             --choose K` reads a model with candidates alone)"
+             `candidate = true`), as the test has one at least (only a design that \
+             chooses sensors reads a model with candidates alone)"
         }
     };
     Err(ctx.err(None, "", "sensor", what))
