@@ -1,10 +1,9 @@
 //! `design`: `rfeid design` from Python (SPEC §6): predicted standard
 //! errors of a planned test, and the D-optimal choice of candidate sensors.
-use super::errors::{model_error, option_error, setting_error, simulation_error};
+use super::errors::{model_error, option_error, py_error, setting_error, simulation_error};
 use super::model::PyModel;
 use super::result::write_report;
 use super::watch::{watched, Counters};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rfeid::design::json::{at_values, check_request, design_json};
 use rfeid::design::{design as run_design, Design, DesignError, DesignSettings};
@@ -63,21 +62,14 @@ pub fn design(
         .as_ref()
         .map_or("the model".into(), |p| p.display().to_string());
     check_threads(threads).map_err(|e| option_error(&e))?;
-    check_request(&model.model, &label, choose, over_box).map_err(|e| {
-        let text = e.option_error().spelt(Spelling::Keyword);
-        match e.of_model() {
-            true => model_error(text),
-            false => PyValueError::new_err(text),
-        }
-    })?;
+    check_request(&model.model, &label, choose, over_box).map_err(py_error)?;
     let mut values = model.model.nominal();
     let notes: Vec<String> = set_values::apply_sets_to_campaign(&model.model, &set, &mut values)
         .map_err(setting_error)?
         .iter()
         .map(|w| w.spelt(Spelling::Keyword))
         .collect();
-    let at = at_values(model.model.clone(), values)
-        .map_err(|e| model_error(e.option_error().spelt(Spelling::Keyword)))?;
+    let at = at_values(model.model.clone(), values).map_err(py_error)?;
     let cancel = Cancel::new();
     let settings = DesignSettings {
         choose,

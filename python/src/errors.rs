@@ -59,19 +59,20 @@ pub fn option_error(e: &OptionError) -> PyErr {
 
 /// A library error as the module's exception, by whose fault it is
 /// ([`Kind`]): the model's a `ModelError`, the data's a `DataError`, an
-/// option's a `ValueError` named as the keyword, a failed computation an
-/// `IdentificationError`, a cancelled run `KeyboardInterrupt`. The one
-/// place the module maps a library error to an exception.
+/// option's a `ValueError`, a failed computation an `IdentificationError`,
+/// a cancelled run `KeyboardInterrupt`; an option it is about is named as
+/// the keyword. The one place the module maps a library error to an
+/// exception.
 pub fn py_error<E: Kind + std::fmt::Display>(e: E) -> PyErr {
-    if let Some(o) = e.option_error() {
-        return option_error(o);
-    }
+    let text = e
+        .option_error()
+        .map_or_else(|| e.to_string(), |o| o.spelt(Spelling::Keyword));
     match e.kind() {
-        ErrorKind::Model => ModelError::new_err(e.to_string()),
-        ErrorKind::Data => DataError::new_err(e.to_string()),
-        ErrorKind::Option => PyValueError::new_err(e.to_string()),
-        ErrorKind::Failed => IdentificationError::new_err(e.to_string()),
-        ErrorKind::Interrupted => PyKeyboardInterrupt::new_err(e.to_string()),
+        ErrorKind::Model => ModelError::new_err(text),
+        ErrorKind::Data => DataError::new_err(text),
+        ErrorKind::Option => PyValueError::new_err(text),
+        ErrorKind::Failed => IdentificationError::new_err(text),
+        ErrorKind::Interrupted => PyKeyboardInterrupt::new_err(text),
     }
 }
 

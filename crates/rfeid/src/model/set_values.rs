@@ -13,20 +13,15 @@ use crate::units::parse_quantity;
 /// way ([`OptionError::spelt`]).
 pub type SetError = OptionError;
 
-/// A refused setting of option `option`.
-fn refused(option: &'static str, detail: String) -> SetError {
-    OptionError::new(option, detail)
-}
-
 /// One `NAME=VALUE`: the parameter's index and the value in SI.
 pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
     let (name, value) = s
         .split_once('=')
-        .ok_or_else(|| refused("set", format!("'{s}': expected NAME=VALUE")))?;
+        .ok_or_else(|| OptionError::new("set", format!("'{s}': expected NAME=VALUE")))?;
     let name = name.trim();
     let i = model.parameter_index(name).ok_or_else(|| {
         let known: Vec<&str> = model.parameters.iter().map(|p| p.name.as_str()).collect();
-        refused(
+        OptionError::new(
             "set",
             format!(
                 ": unknown parameter '{name}' (parameters: {})",
@@ -34,7 +29,7 @@ pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
             ),
         )
     })?;
-    let q = parse_quantity(value).map_err(|e| refused("set", format!("{name}: {e}")))?;
+    let q = parse_quantity(value).map_err(|e| OptionError::new("set", format!("{name}: {e}")))?;
     let p = &model.parameters[i];
     let bare = value.trim().parse::<f64>().is_ok();
     if !bare && q.dim != p.dimension {
@@ -42,10 +37,13 @@ pub fn parse_set(model: &Model, s: &str) -> Result<(usize, f64), SetError> {
             "{name}: '{value}' has the dimension {}, but {name} is {}",
             q.dim, p.dimension
         );
-        return Err(refused("set", detail));
+        return Err(OptionError::new("set", detail));
     }
     if !q.value.is_finite() {
-        return Err(refused("set", format!("{name}: not a finite number")));
+        return Err(OptionError::new(
+            "set",
+            format!("{name}: not a finite number"),
+        ));
     }
     Ok((i, q.value))
 }
@@ -67,7 +65,7 @@ pub fn apply_sets(
                 "{}: the value lies outside its box [{lo:e}, {hi:e}] (SI)",
                 p.name
             );
-            warnings.push(refused("set", detail));
+            warnings.push(OptionError::new("set", detail));
         }
         params[i] = value;
     }
@@ -98,7 +96,7 @@ fn parse_once(model: &Model, sets: &[String]) -> Result<Vec<(usize, f64)>, SetEr
                 "'{s}': {} is already set by `set` '{earlier}'; give each parameter once",
                 model.parameters[i].name
             );
-            return Err(refused("set", detail));
+            return Err(OptionError::new("set", detail));
         }
         given.push((i, value, s));
     }
@@ -123,7 +121,7 @@ fn not_set_by_experiments(model: &Model, i: usize, s: &str) -> Result<(), SetErr
         if setters.len() == 1 { "" } else { "s" },
         setters.join(", ")
     );
-    Err(refused("set", detail))
+    Err(OptionError::new("set", detail))
 }
 
 /// The model with parameters fixed for one run (`set` of `identify`):
@@ -146,22 +144,26 @@ pub fn stepped(
     substeps: Option<usize>,
 ) -> Result<Model, SetError> {
     model.with_steps(tolerance, substeps).map_err(|e| match e {
-        EditError::Tolerance(t) => refused(
+        EditError::Tolerance(t) => OptionError::new(
             "tolerance",
             format!(
                 "{t:e}: {}",
                 crate::simulation::steps::tolerance_range_text()
             ),
         ),
-        EditError::Substeps(s) => refused("substeps", format!("{s}: must be 1 to {MAX_SUBSTEPS}")),
-        other => refused("tolerance", format!(": {other}")),
+        EditError::Substeps(s) => {
+            OptionError::new("substeps", format!("{s}: must be 1 to {MAX_SUBSTEPS}"))
+        }
+        other => OptionError::new("tolerance", format!(": {other}")),
     })
 }
 
 /// A refused `set` edit, worded like [`parse_set`]'s own refusals.
 fn set_failure(e: EditError) -> SetError {
     match e {
-        EditError::NotFinite { name, .. } => refused("set", format!("{name}: not a finite number")),
-        other => refused("set", format!(": {other}")),
+        EditError::NotFinite { name, .. } => {
+            OptionError::new("set", format!("{name}: not a finite number"))
+        }
+        other => OptionError::new("set", format!(": {other}")),
     }
 }
