@@ -10,11 +10,11 @@ use crate::model::PowerSpring;
 /// the static deformation `pre` (`preload`), as its change from there;
 /// `rate` gives δ̇ (computed only for a damping key). `power` is the
 /// component's power-law spring (always present for a power-law usage),
-/// `friction` its friction law at δ̇ (likewise).
+/// `friction` its friction law at δ̇ ([`FrictionAt::NONE`] without one).
 #[inline(always)]
 pub(super) fn force_derivative(
     usage: Usage,
-    (power, friction): (Option<PowerSpring>, Option<&FrictionAt<'_>>),
+    (power, friction): (Option<PowerSpring>, &FrictionAt<'_>),
     pre: &Preload,
     d: f64,
     rate: impl FnOnce() -> f64,
@@ -25,7 +25,7 @@ pub(super) fn force_derivative(
         (Usage::PowerCoefficient(_), Some(p)) => p.per_a * power_change(1.0, p.m, pre, d).0,
         (Usage::PowerExponent(_), Some(p)) => exponent_change(p, pre, d),
         (Usage::PowerCoefficient(_) | Usage::PowerExponent(_), None) => 0.0,
-        (Usage::Friction(_, key), _) => friction.map_or(0.0, |f| f.derivative(key)),
+        (Usage::Friction(_, key), _) => friction.derivative(key),
         // Bouc–Wen keys act through the internal state's rate (`hysteresis`)
         // and are not passed here.
         (Usage::Hysteresis(..), _) => 0.0,

@@ -126,12 +126,46 @@ impl FrictionForce {
     }
 }
 
-/// A friction law at one velocity ([`FrictionForce::at`]).
+/// A friction law at one velocity ([`FrictionForce::at`]), or
+/// [`FrictionAt::NONE`] for a component without one.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct FrictionAt<'a> {
     law: &'a FrictionForce,
     v: f64,
     terms: Terms,
+}
+
+/// A law of zero force: every number in it zero.
+const NO_FRICTION: FrictionForce = FrictionForce {
+    mean: 0.0,
+    half: 0.0,
+    symmetric: true,
+    stribeck: false,
+    fs: 0.0,
+    inv_vs: 0.0,
+    inv_s: 0.0,
+};
+
+impl FrictionAt<'static> {
+    /// No friction: force, slope and every derivative zero, from terms
+    /// that are all defined.
+    ///
+    /// The kernels take this rather than an `Option`: a `None` leaves the
+    /// terms undefined, the compiler hoists the (cheap, pure) derivative
+    /// arithmetic out of the kernels' loops and runs it on whatever a
+    /// register holds, and a subnormal there costs a microcode assist per
+    /// operation. That made every run with sensitivities of a model
+    /// without friction 3.5 times slower (docs/benchmarks.md).
+    pub const NONE: FrictionAt<'static> = FrictionAt {
+        law: &NO_FRICTION,
+        v: 0.0,
+        terms: Terms {
+            t: 0.0,
+            e: 0.0,
+            f0: 0.0,
+            f: 0.0,
+        },
+    };
 }
 
 impl FrictionAt<'_> {

@@ -102,12 +102,12 @@ pub(crate) fn sparse_tangent<M: Madd>(
             None => (comp.k, 0.0),
         };
         // A friction law's slope in δ̇ adds to the damping.
-        let friction = comp
-            .friction
-            .map(|j| sys.frictions[j as usize].law.at(comp.rate::<M>(v)));
-        let damp = match &friction {
-            Some(fr) => comp.c + fr.slope(),
-            None => comp.c,
+        let (friction, damp) = match comp.friction {
+            Some(j) => {
+                let fr = sys.frictions[j as usize].law.at(comp.rate::<M>(v));
+                (fr, comp.c + fr.slope())
+            }
+            None => (FrictionAt::NONE, comp.c),
         };
         let explicit = Explicit {
             power,
@@ -136,8 +136,9 @@ pub(crate) fn sparse_tangent<M: Madd>(
 struct Explicit<'a> {
     /// The component's power-law spring, if any.
     power: Option<&'a SparsePower>,
-    /// The component's friction law at its δ̇, if any.
-    friction: Option<FrictionAt<'a>>,
+    /// The component's friction law at its δ̇ ([`FrictionAt::NONE`]
+    /// without one).
+    friction: FrictionAt<'a>,
     /// (column, usage) of the parameters acting on the component.
     usages: &'a [(usize, Usage)],
     /// Its deformation (from the static one, if any).
@@ -175,7 +176,7 @@ fn component_columns<M: Madd, const W: usize>(
                 Some(p) => (Some(p.spring), p.pre),
                 None => (None, Preload::default()),
             };
-            let laws = (spring, e.friction.as_ref());
+            let laws = (spring, &e.friction);
             s[col - c0] += force_derivative(usage, laws, &pre, d, || comp.rate::<M>(v));
         }
     }

@@ -24,7 +24,7 @@
 //! multiply the constant `B_p ∂q₀/∂x` of each power-law spring p.
 use super::dim::Dim;
 use super::force_derivative::force_derivative;
-use super::friction::FrictionForce;
+use super::friction::{FrictionAt, FrictionForce};
 use super::madd::Madd;
 use super::power_law::power_law;
 use super::preload::{power_change, Preload};
@@ -233,15 +233,18 @@ impl Tangent {
             }
             let mut cached = None;
             let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
-            let friction = comp.friction.as_ref().map(|fr| fr.at(rate()));
-            let slope = friction.as_ref().map_or(0.0, |fr| fr.slope());
+            let friction = match &comp.friction {
+                Some(fr) => fr.at(rate()),
+                None => FrictionAt::NONE,
+            };
+            let slope = friction.slope();
             if slope != 0.0 {
                 for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
                     axpy::<M>(slope * g[k], b, &mut row[n..]);
                 }
             }
             for &(col, usage) in &comp.usages {
-                let laws = (comp.power, friction.as_ref());
+                let laws = (comp.power, &friction);
                 let f = force_derivative(usage, laws, &comp.pre, d, &mut rate);
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
