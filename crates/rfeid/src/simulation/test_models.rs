@@ -7,12 +7,17 @@ use std::path::Path;
 /// (unit mass, k = (2πf)², c = 1), driven by a unit sine of `drive` Hz,
 /// sampled at `rate` Hz for 0.05 s; its one sensor reads the displacement.
 pub(crate) fn oscillator(f: f64, drive: f64, rate: f64) -> Model {
+    damped_oscillator(f, 1.0, drive, rate)
+}
+
+/// [`oscillator`] with the damper `c` N·s/m (on its 1 kg) in place of 1.
+pub(crate) fn damped_oscillator(f: f64, c: f64, drive: f64, rate: f64) -> Model {
     let k = (2.0 * std::f64::consts::PI * f).powi(2);
     let text = format!(
         "[simulation]\nduration = 0.05\nsample_rate = {rate}\n\n\
          [[body]]\nname = \"b\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\ncom = [0, 0, 0]\n\n\
          [[element]]\nname = \"s\"\nbody = \"b\"\nto = \"ground\"\nat = [0, 0, 0]\n\
-         ux = {{ k = {k}, c = 1.0 }}\n\n\
+         ux = {{ k = {k}, c = {c:e} }}\n\n\
          [[excitation]]\nname = \"p\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
          signal = {{ type = \"sine\", amplitude = 1.0, frequency = {drive} }}\n\n\
          [[sensor]]\nname = \"x\"\nbody = \"b\"\nat = [0, 0, 0]\ndirection = [1, 0, 0]\n\
