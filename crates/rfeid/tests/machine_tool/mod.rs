@@ -3,8 +3,10 @@
 //! finite element method), slideways with power-law normals (eq. 6: m = 1.5
 //! under the table, m = 2 under the ram) preloaded by gravity, isolation
 //! pads, a shaker between tool and workpiece (a 20 N chirp, 20–800 Hz, small
-//! enough that the contacts stay closed), and 3–6 accelerometers; 0.3 s
-//! at 10 kHz, steps chosen for the default tolerance.
+//! enough that the bed and column's contacts stay closed; on the chain and
+//! the tower a slideway contact passes through δ = 0 at a resonance, see
+//! docs/benchmarks.md), and 3–6 accelerometers; 0.3 s at 10 kHz, steps
+//! chosen for the default tolerance.
 //!
 //! [`machine_tool_toml`] writes the original layout (a bed and a column);
 //! [`machine_toml`] writes any [`Machine`]: four [`Shape`]s (issue 46), the
