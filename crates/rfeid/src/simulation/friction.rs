@@ -168,7 +168,17 @@ impl FrictionAt<'static> {
     };
 }
 
-impl FrictionAt<'_> {
+impl<'a> FrictionAt<'a> {
+    /// The law `law` at the velocity `rate()` (evaluated only with a law),
+    /// or [`FrictionAt::NONE`] without one.
+    #[inline(always)]
+    pub fn of(law: Option<&'a FrictionForce>, rate: impl FnOnce() -> f64) -> FrictionAt<'a> {
+        match law {
+            Some(law) => law.at(rate()),
+            None => FrictionAt::NONE,
+        }
+    }
+
     /// The force φ(v).
     #[inline(always)]
     pub fn force(&self) -> f64 {

@@ -233,10 +233,7 @@ impl Tangent {
             }
             let mut cached = None;
             let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
-            let friction = match &comp.friction {
-                Some(fr) => fr.at(rate()),
-                None => FrictionAt::NONE,
-            };
+            let friction = FrictionAt::of(comp.friction.as_ref(), &mut rate);
             let slope = friction.slope();
             if slope != 0.0 {
                 for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
