@@ -102,13 +102,9 @@ pub(crate) fn sparse_tangent<M: Madd>(
             None => (comp.k, 0.0),
         };
         // A friction law's slope in δ̇ adds to the damping.
-        let (friction, damp) = match comp.friction {
-            Some(j) => {
-                let fr = sys.frictions[j as usize].law.at(comp.rate::<M>(v));
-                (fr, comp.c + fr.slope())
-            }
-            None => (FrictionAt::NONE, comp.c),
-        };
+        let law = comp.friction.map(|j| &sys.frictions[j as usize].law);
+        let friction = FrictionAt::of(law, || comp.rate::<M>(v));
+        let damp = comp.c + friction.slope();
         let explicit = Explicit {
             power,
             friction,
