@@ -118,16 +118,6 @@ struct Layout {
 }
 
 impl Layout {
-    fn new(bodies: usize) -> Layout {
-        Layout::of(&Machine {
-            shape: Shape::BedColumn,
-            bodies,
-            params: 0,
-            stiffer: 1.0,
-            seed: 0,
-        })
-    }
-
     fn of(m: &Machine) -> Layout {
         let bodies = m.bodies;
         assert!(
@@ -283,14 +273,9 @@ fn sites(layout: Layout) -> Vec<(String, f64)> {
         }
     }
     for p in 1..=layout.pads().len() {
-        s.push((format!("pad{p}_k_xy"), 2.0e8));
-        s.push((format!("pad{p}_k_z"), 4.0e8));
+        s.push((format!("pad{p}_k_xy"), 2.0e8 * layout.pads));
+        s.push((format!("pad{p}_k_z"), 4.0e8 * layout.pads));
         s.push((format!("pad{p}_c"), 2.0e4));
-    }
-    for p in s.iter_mut().filter(|(n, _)| n.starts_with("pad")) {
-        if !p.0.ends_with("_c") {
-            p.1 *= layout.pads;
-        }
     }
     for j in 1..=layout.joints() {
         s.push((format!("joint{j}_k_t"), 3.0e9 * layout.stiffer));
@@ -322,8 +307,13 @@ fn fixed_sites() -> Vec<(String, f64)> {
 /// `params` identified parameters (fewer if the model has fewer places for
 /// them; every box is a factor of 2 each way around the nominal value).
 pub fn machine_tool_toml(bodies: usize, params: usize) -> String {
-    let layout = Layout::new(bodies);
-    toml(layout, params, header(layout, bodies))
+    machine_toml(&Machine {
+        shape: Shape::BedColumn,
+        bodies,
+        params,
+        stiffer: 1.0,
+        seed: 0,
+    })
 }
 
 /// The model file of the machine `m` (see [`Machine`]); for the original
@@ -385,23 +375,21 @@ fn toml(layout: Layout, params: usize, head: String) -> String {
         identified.len()
     )
     .unwrap();
-    let body = |w: &mut String, name: &str, mass: f64, inertia: [f64; 3], com: [f64; 3]| {
-        writeln!(
-            w,
-            "[[body]]\nname = \"{name}\"\nmass = {mass:e}\ninertia = {inertia:?}\n\
+    // A body of mass and inertia scaled by `f` (the seed's variation).
+    let body =
+        |w: &mut String, name: &str, f: f64, (mass, inertia): (f64, [f64; 3]), com: [f64; 3]| {
+            let (mass, inertia) = (mass * f, inertia.map(|j| j * f));
+            writeln!(
+                w,
+                "[[body]]\nname = \"{name}\"\nmass = {mass:e}\ninertia = {inertia:?}\n\
              com = {com:?}\n"
-        )
-        .unwrap();
-    };
+            )
+            .unwrap();
+        };
     let (fm, fs) = (layout.member_mass, layout.slide_mass);
     for i in 0..layout.bed {
-        body(
-            w,
-            &format!("bed{i}"),
-            400.0 * fm,
-            [17.0 * fm, 14.0 * fm, 20.0 * fm],
-            [layout.bed_x(i), 0.0, 0.3],
-        );
+        let at = [layout.bed_x(i), 0.0, 0.3];
+        body(w, &format!("bed{i}"), fm, (400.0, [17.0, 14.0, 20.0]), at);
     }
     let column_x = layout.bed_x(layout.bed - 1);
     let columns = [
@@ -414,8 +402,8 @@ fn toml(layout: Layout, params: usize, head: String) -> String {
             body(
                 w,
                 &format!("{name}{i}"),
-                300.0 * fm,
-                [12.0 * fm, 11.0 * fm, 9.0 * fm],
+                fm,
+                (300.0, [12.0, 11.0, 9.0]),
                 [x, 0.0, z],
             );
         }
@@ -423,32 +411,20 @@ fn toml(layout: Layout, params: usize, head: String) -> String {
     for i in 0..layout.beam {
         let z = layout.column_top() + 0.25;
         let at = [layout.beam_x(i), 0.0, z];
-        body(
-            w,
-            &format!("beam{i}"),
-            300.0 * fm,
-            [9.0 * fm, 12.0 * fm, 11.0 * fm],
-            at,
-        );
+        body(w, &format!("beam{i}"), fm, (300.0, [9.0, 12.0, 11.0]), at);
     }
     let table_x = layout.bed_x(layout.table_on);
     body(
         w,
         "table",
-        250.0 * fs,
-        [8.0 * fs, 6.0 * fs, 12.0 * fs],
+        fs,
+        (250.0, [8.0, 6.0, 12.0]),
         [table_x, 0.0, 0.75],
     );
     let ram_x = layout.ram_x();
     if layout.ram {
         let z = layout.ram_base() + 0.15;
-        body(
-            w,
-            "ram",
-            200.0 * fs,
-            [9.0 * fs, 3.0 * fs, 9.0 * fs],
-            [ram_x, 0.2, z],
-        );
+        body(w, "ram", fs, (200.0, [9.0, 3.0, 9.0]), [ram_x, 0.2, z]);
     }
 
     let element = |w: &mut String, name: &str, from: &str, to: &str, at: [f64; 3], extra: &str| {
