@@ -23,7 +23,7 @@ use coloured_cases::{coloured_data, default_settings, knee_column, rms, run, z_s
 use rfeid::identification::pipeline::NoiseModel;
 use rfeid::identification::result::IdentificationResult;
 use rfeid::identification::verdict::{is_fit_reason, Outcome};
-use rfeid::model::{Law, Model, Value};
+use rfeid::model::{Law, Model, Power, Value};
 use std::time::Instant;
 
 fn list(v: String) -> Vec<f64> {
@@ -93,7 +93,7 @@ fn main() {
 fn with_exponent(model: &Model, m: f64) -> Model {
     let mut wrong = model.clone();
     for c in wrong.elements.iter_mut().flat_map(|e| &mut e.components) {
-        if let Law::Power { m: e, .. } = &mut c.law {
+        if let Law::Power(Power { m: e, .. }) = &mut c.law {
             *e = Value::Fixed(m);
         }
     }

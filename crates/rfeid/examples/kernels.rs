@@ -25,7 +25,7 @@ fn sizes(sim: &Simulator<'_>) -> (usize, usize, usize, usize) {
     let comps = &sim.structure().components;
     let power = comps
         .iter()
-        .filter(|c| matches!(c.law, Law::Power { .. }))
+        .filter(|c| matches!(c.law, Law::Power(_)))
         .count();
     let nonzeros = comps
         .iter()

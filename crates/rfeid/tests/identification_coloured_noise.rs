@@ -7,7 +7,7 @@ use crate::coloured_cases;
 use coloured_cases::{coloured_data, default_settings, knee_column, rms, run, z_scores};
 use rfeid::identification::pipeline::NoiseModel;
 use rfeid::identification::verdict::Reason;
-use rfeid::model::{Law, Value};
+use rfeid::model::{Law, Power, Value};
 
 /// 2 % noise low-passed at 1 kHz (sampling at 10 kHz), 4 seeds: the RMS of
 /// |estimate − truth| / s.e. over all 64 estimates lies in [0.7, 1.4], none
@@ -48,7 +48,7 @@ fn a_wrong_model_on_coloured_noise_is_suspect() {
     let mut wrong = model.clone();
     let mut changed = 0;
     for c in wrong.elements.iter_mut().flat_map(|e| &mut e.components) {
-        if let Law::Power { m, .. } = &mut c.law {
+        if let Law::Power(Power { m, .. }) = &mut c.law {
             *m = Value::Fixed(2.5);
             changed += 1;
         }

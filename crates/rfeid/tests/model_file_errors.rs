@@ -172,6 +172,8 @@ fn cases() -> Vec<Case> {
         case("exponent below 1", edit(SLIDE, "m = 2.0", "m = 0.5"), r#"element "slide", component ux"#, "m", "at least 1", Some("0.5")),
         case("k in a power law", edit(SLIDE, "m = 2.0,", "m = 2.0, k = 5.0,"), r#"element "slide", component ux"#, "k", "does not belong to the power law", Some("5.0")),
         case("negative stiffness", edit(r#"name = "pad""#, r#""6e7 N/m""#, r#""-6e7 N/m""#), r#"element "pad", component uz"#, "k", "must not be negative", Some(r#""-6e7 N/m""#)),
+        case("power key in a friction law", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "friction", f = "30 N", m = 2.0"#), r#"element "slide", component ux"#, "m", "'m' does not belong to the friction law (it takes k, f, f_neg, fs, vs, smoothing, c)", Some("2.0")),
+        case("law not a name", edit(SLIDE, r#"law = "power""#, "law = 2"), r#"element "slide", component ux"#, "law", "the law is a name in quotes (linear, power, friction or bouc-wen)", Some("2")),
         case("unknown law", edit(SLIDE, r#""power""#, r#""quadratic""#), r#"element "slide", component ux"#, "law", "unknown law 'quadratic'", Some(r#""quadratic""#)),
         case("unknown law with another law's keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "coulomb", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'coulomb'", Some(r#""coulomb""#)),
         case("misspelt law with its keys", edit(SLIDE, r#"law = "power", a = "a_n", m = 2.0"#, r#"law = "fricton", f = "30 N""#), r#"element "slide", component ux"#, "law", "unknown law 'fricton' (linear, power, friction or bouc-wen); did you mean 'friction'?", Some(r#""fricton""#)),
@@ -209,7 +211,7 @@ fn cases() -> Vec<Case> {
         case("duration in kilograms", VALID.replace("duration = 0.1", r#"duration = "0.1 kg""#), "[simulation]", "duration", "dimension", Some(r#""0.1 kg""#)),
         // Unknown keys (typos).
         case("unknown body key", edit(KNEE, "mass = 320.0", "masss = 320.0"), knee, "masss", "unknown field `masss`", Some("masss")),
-        case("unknown component key", edit(SLIDE, "ux = { law", "ux = { lawz = 1, law"), slide, "lawz", "unknown field `lawz`", Some("lawz")),
+        case("unknown component key", edit(SLIDE, "ux = { law", "ux = { lawz = 1, law"), r#"element "slide", component ux"#, "lawz", "unknown field `lawz`", Some("lawz")),
         case("unknown top-level key", format!("gravty = [0, 0, -9.81]\n{VALID}"), "", "gravty", "unknown field `gravty`", Some("gravty")),
         case("top-level key below a table's header", VALID.replace("sample_rate = 1000.0", "sample_rate = 1000.0\ngravity = [0, 0, -9.81]"), "[simulation]", "gravity", "'gravity' is a top-level key: write it above the first [table] header", Some("gravity")),
         // Simulation.

@@ -10,7 +10,7 @@ use crate::common;
 use common::*;
 use nalgebra::{Matrix3, Vector3};
 use rfeid::io::model_file::load_model;
-use rfeid::model::{Attachment, Law, Model, SensorKind, Shape, Value};
+use rfeid::model::{Attachment, Law, Linear, Model, Power, SensorKind, Shape, Value};
 use std::path::Path;
 
 fn knee_column() -> Model {
@@ -101,20 +101,20 @@ fn knee_column_geometry_and_experiment_are_spec_section_4() {
     assert_eq!(dofs, [0, 1, 2]);
     assert_eq!(
         s1.components[0].law,
-        Law::Power {
+        Law::Power(Power {
             a: param(&m, "a_n1"),
             m: Value::Fixed(2.0),
             reference: 1.0
-        }
+        })
     );
     assert_eq!(s1.components[0].damping, param(&m, "h_n1"));
     // uy and uz share a_t1 and h_t1.
     for c in &s1.components[1..] {
         assert_eq!(
             c.law,
-            Law::Linear {
+            Law::Linear(Linear {
                 k: param(&m, "a_t1")
-            }
+            })
         );
         assert_eq!(c.damping, param(&m, "h_t1"));
     }
@@ -127,7 +127,7 @@ fn knee_column_geometry_and_experiment_are_spec_section_4() {
     let screw = &m.elements[4];
     assert_eq!(screw.components.len(), 1);
     assert_eq!(screw.components[0].dof, 2);
-    let Law::Linear { k: Value::Fixed(k) } = screw.components[0].law else {
+    let Law::Linear(Linear { k: Value::Fixed(k) }) = screw.components[0].law else {
         panic!("screw law {:?}", screw.components[0].law)
     };
     assert!(close(k, 2.0e8));

@@ -36,7 +36,14 @@ fn key_probes() -> Vec<(&'static str, String)> {
         ("simulation", format!("[simulation]\n{p} = 1\n")),
         ("body", format!("[[body]]\n{p} = 1\n")),
         ("element", format!("[[element]]\n{p} = 1\n")),
-        ("component", format!("[[element]]\nux = {{ {p} = 1 }}\n")),
+        // A component's keys are its law's to judge, once the builder
+        // reaches it: the probe needs a body for the element to join.
+        (
+            "component",
+            format!(
+                "{BASE}[[element]]\nname = \"e\"\nbody = \"b\"\nto = \"ground\"\nat = [0, 0, 0]\nux = {{ {p} = 1 }}\n"
+            ),
+        ),
         ("parameter", format!("[[parameter]]\n{p} = 1\n")),
         ("excitation", format!("[[excitation]]\n{p} = 1\n")),
         ("signal", format!("[[excitation]]\nsignal = {{ {p} = 1 }}\n")),

@@ -168,23 +168,16 @@ fn elements_table(model: &Model) -> String {
                 .components
                 .iter()
                 .map(|c| {
+                    let law = c.law.joint();
+                    let keys = law
+                        .keys()
+                        .into_iter()
+                        .map(|k| format!(" {}={}", k.name, value(&k.value)));
                     let law = match c.law {
                         Law::None => "c only".to_string(),
-                        Law::Linear { k } => format!("k={}", value(&k)),
-                        Law::Power { a, m, reference } if reference != 1.0 => {
-                            format!("a={} m={} reference={reference} m", value(&a), value(&m))
-                        }
-                        Law::Power { a, m, .. } => format!("a={} m={}", value(&a), value(&m)),
-                        Law::Friction(fr) => friction_text(&fr, &value),
-                        Law::BoucWen(bw) => format!(
-                            "bouc-wen k={} alpha={} beta={} gamma={} d={} n={}",
-                            value(&bw.k),
-                            value(&bw.alpha),
-                            value(&bw.beta),
-                            value(&bw.gamma),
-                            value(&bw.d),
-                            value(&bw.n)
-                        ),
+                        _ => std::iter::once(law.name().to_string())
+                            .chain(keys)
+                            .collect(),
                     };
                     format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
                 })
@@ -198,22 +191,6 @@ fn elements_table(model: &Model) -> String {
         })
         .collect();
     table(&["element", "joins", "components"], &rows)
-}
-
-/// A friction law's keys, `friction f=… [f_neg=…] [fs=… vs=…] smoothing=… [k=…]`.
-fn friction_text(fr: &rfeid::model::Friction, value: &dyn Fn(&Value) -> String) -> String {
-    let mut s = format!("friction f={}", value(&fr.f));
-    if let Some(f_neg) = &fr.f_neg {
-        s += &format!(" f_neg={}", value(f_neg));
-    }
-    if let Some((fs, vs)) = &fr.stribeck {
-        s += &format!(" fs={} vs={}", value(fs), value(vs));
-    }
-    s += &format!(" smoothing={}", value(&fr.smoothing));
-    if fr.k != Value::Fixed(0.0) {
-        s += &format!(" k={}", value(&fr.k));
-    }
-    s
 }
 
 /// Sensors of the model: what they read, where, along what, and the

@@ -16,7 +16,7 @@
 //! power law's slope feels through its curvature.
 use crate::model::{Law, Model};
 use crate::simulation::equilibrium::static_equilibrium;
-use crate::simulation::structure::{FrictionKey, HysteresisKey, Row, Usage};
+use crate::simulation::structure::{HysteresisKey, Row, Usage};
 use crate::simulation::system::{add_outer, System};
 use crate::simulation::{SimulationError, Simulator};
 
@@ -81,7 +81,7 @@ pub fn linearise(
     let mut stiffness = sys.tangent_stiffness(&q0);
     let mut damping = sys.damping_matrix();
     for comp in &sim.structure().components {
-        let (k, c) = small_motion(&comp.law, params);
+        let (k, c) = comp.law.joint().small_motion(params);
         add_outer(&mut stiffness, n, &comp.row, k);
         add_outer(&mut damping, n, &comp.row, c);
     }
@@ -122,50 +122,6 @@ fn zero_slope(sys: &System<'_>, q0: &[f64]) -> Vec<String> {
         .collect()
 }
 
-/// The small-motion stiffness and damping that a law adds to the tangent
-/// matrices beyond its linear spring and damper (which the system's own
-/// matrices hold): a friction law's `F(0)/v_s` as damping, a Bouc–Wen
-/// law's α as stiffness. (The system refused a friction law's bad values.)
-fn small_motion(law: &Law, p: &[f64]) -> (f64, f64) {
-    match law {
-        Law::Friction(fr) => (0.0, friction_at_rest(fr, p).slope),
-        Law::BoucWen(bw) => (bw.alpha.eval(p), 0.0),
-        _ => (0.0, 0.0),
-    }
-}
-
-/// A friction law's force slope at v = 0 and its derivatives in its keys.
-struct FrictionAtRest {
-    /// `F(0) / v_s`.
-    slope: f64,
-    /// `F(0)`: f_s with Stribeck's peak, else ½(f + f_neg).
-    f_rest: f64,
-    /// `1 / v_s`.
-    inv_s: f64,
-    /// Whether Stribeck's peak is present (then F(0) = f_s).
-    stribeck: bool,
-    /// Whether f_neg is given (else it is f).
-    asymmetric: bool,
-}
-
-/// [`FrictionAtRest`] of the law `fr` at the parameter values `p`.
-fn friction_at_rest(fr: &crate::model::Friction, p: &[f64]) -> FrictionAtRest {
-    let f = fr.f.eval(p);
-    let f_neg = fr.f_neg.map_or(f, |v| v.eval(p));
-    let inv_s = 1.0 / fr.smoothing.eval(p);
-    let f_rest = match fr.stribeck {
-        Some((fs, _)) => fs.eval(p),
-        None => 0.5 * (f + f_neg),
-    };
-    FrictionAtRest {
-        slope: f_rest * inv_s,
-        f_rest,
-        inv_s,
-        stribeck: fr.stribeck.is_some(),
-        asymmetric: fr.f_neg.is_some(),
-    }
-}
-
 /// The terms of parameter `p` at the linearisation point `q0`, whose
 /// derivative in p is `dq0`.
 fn terms(sys: &System<'_>, p: usize, q0: &[f64], dq0: &[f64]) -> Vec<Term> {
@@ -199,7 +155,7 @@ fn terms(sys: &System<'_>, p: usize, q0: &[f64], dq0: &[f64]) -> Vec<Term> {
                 let Law::Friction(fr) = &comps[i].law else {
                     continue;
                 };
-                out.push(outer(i, 0.0, friction_derivative(fr, params, key)));
+                out.push(outer(i, 0.0, fr.rest_slope_derivative(params, key)));
             }
             Usage::Hysteresis(i, HysteresisKey::Alpha) => out.push(outer(i, 1.0, 0.0)),
             Usage::Mass(b) => out.extend((0..3).map(|a| Term::Mass(6 * b + a))),
@@ -234,19 +190,4 @@ fn power_curvature(a: f64, m: f64, d: f64) -> f64 {
         return 0.0;
     }
     m * (m - 1.0) * a * d.abs().powf(m - 2.0) * d.signum()
-}
-
-/// `∂(F(0)/v_s)/∂key` of a friction law (see [`FrictionAtRest`]).
-fn friction_derivative(fr: &crate::model::Friction, p: &[f64], key: FrictionKey) -> f64 {
-    let at = friction_at_rest(fr, p);
-    match key {
-        FrictionKey::Coulomb if at.stribeck => 0.0,
-        FrictionKey::Coulomb if at.asymmetric => 0.5 * at.inv_s,
-        FrictionKey::Coulomb => at.inv_s,
-        FrictionKey::CoulombNegative if at.stribeck => 0.0,
-        FrictionKey::CoulombNegative => 0.5 * at.inv_s,
-        FrictionKey::Static => at.inv_s,
-        FrictionKey::StribeckVelocity => 0.0,
-        FrictionKey::Smoothing => -at.f_rest * at.inv_s * at.inv_s,
-    }
 }

@@ -282,7 +282,7 @@ fn notes(model: &Model, lin: &Linearised) -> Vec<String> {
             .elements
             .iter()
             .flat_map(|el| el.components.iter().map(move |c| (el, c)))
-            .filter(|(_, c)| law_name(&c.law) == name)
+            .filter(|(_, c)| c.law.joint().name() == name)
             .map(|(el, c)| format!("{}/{}", el.name, crate::model::COMPONENT_NAMES[c.dof]))
             .collect()
     };
@@ -307,16 +307,4 @@ fn notes(model: &Model, lin: &Linearised) -> Vec<String> {
             .into(),
     );
     notes
-}
-
-/// The law's name as the model file spells it.
-fn law_name(law: &crate::model::Law) -> &'static str {
-    use crate::model::Law;
-    match law {
-        Law::None => "none",
-        Law::Linear { .. } => "linear",
-        Law::Power { .. } => "power",
-        Law::Friction(_) => "friction",
-        Law::BoucWen(_) => "bouc-wen",
-    }
 }

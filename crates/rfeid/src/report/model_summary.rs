@@ -4,7 +4,7 @@ use super::fmt::{short, sig, unit};
 use super::html::table;
 use super::svg::escape;
 use crate::identification::result::IdentificationResult;
-use crate::model::{Attachment, Law, Model, SensorKind, Value, COMPONENT_NAMES};
+use crate::model::{Attachment, Model, SensorKind, Value, COMPONENT_NAMES};
 use crate::simulation::free::free_directions;
 use crate::simulation::steps::integrator;
 use crate::simulation::Simulator;
@@ -45,79 +45,33 @@ fn body_name(model: &Model, b: usize) -> String {
 }
 
 /// The components of an element in words, e.g.
-/// `ux: a·sign(δ)|δ|^m, a = a_n1, m = 2; c = h_n1`.
+/// `ux: a·sign(δ)|δ|^m, a = a_n1, m = 2; c = h_n1`: each law's formula
+/// and keys as it gives them.
 fn components(model: &Model, e: &crate::model::Element) -> String {
     e.components
         .iter()
         .map(|c| {
             let rot = c.dof >= 3;
-            let (k_unit, c_unit) = if rot {
-                ("N*m/rad", "N*m*s/rad")
-            } else {
-                ("N/m", "N*s/m")
-            };
+            let c_unit = if rot { "N*m*s/rad" } else { "N*s/m" };
             let name = COMPONENT_NAMES.get(c.dof).copied().unwrap_or("?");
-            let law = match c.law {
-                Law::None => "no spring".to_owned(),
-                Law::Linear { k } => format!("k = {}", value(model, &k, k_unit)),
-                Law::Power { a, m, reference } if reference != 1.0 => format!(
-                    "a·sign(δ)(|δ|/δ<sub>ref</sub>)<sup>m</sup>, a = {}, m = {}, δ<sub>ref</sub> = {reference:e}",
-                    value(model, &a, ""),
-                    value(model, &m, "")
-                ),
-                Law::Power { a, m, .. } => format!(
-                    "a·sign(δ)|δ|<sup>m</sup>, a = {}, m = {}",
-                    value(model, &a, ""),
-                    value(model, &m, "")
-                ),
-                Law::Friction(fr) => friction_text(model, &fr, rot),
-                Law::BoucWen(bw) => format!(
-                    "Bouc–Wen k δ + z, ż = α v − β(γ|v||z|<sup>n−1</sup>z + d v|z|<sup>n</sup>), \
-                     k = {}, α = {}, β = {}, γ = {}, d = {}, n = {}",
-                    value(model, &bw.k, k_unit),
-                    value(model, &bw.alpha, k_unit),
-                    value(model, &bw.beta, ""),
-                    value(model, &bw.gamma, ""),
-                    value(model, &bw.d, ""),
-                    value(model, &bw.n, "")
-                ),
-            };
+            let law = c.law.joint();
+            let mut text = law.formula();
+            for key in law.keys() {
+                let unit = key.unit.symbol(rot);
+                let _ = write!(
+                    text,
+                    ", {} = {}",
+                    key.symbol,
+                    value(model, &key.value, unit)
+                );
+            }
             format!(
-                "<b>{name}</b>: {law}; c = {}",
+                "<b>{name}</b>: {text}; c = {}",
                 value(model, &c.damping, c_unit)
             )
         })
         .collect::<Vec<_>>()
         .join("<br>")
-}
-
-/// A friction law in words: `friction F(v)·tanh(v/v_s), f = …` with its
-/// optional keys.
-fn friction_text(model: &Model, fr: &crate::model::Friction, rot: bool) -> String {
-    let (f_unit, v_unit, k_unit) = match rot {
-        true => ("N*m", "rad/s", "N*m/rad"),
-        false => ("N", "m/s", "N/m"),
-    };
-    let mut s = format!(
-        "friction F(v)·tanh(v/v<sub>s</sub>), f = {}",
-        value(model, &fr.f, f_unit)
-    );
-    if let Some(f_neg) = &fr.f_neg {
-        let _ = write!(s, ", f<sub>neg</sub> = {}", value(model, f_neg, f_unit));
-    }
-    if let Some((fs, vs)) = &fr.stribeck {
-        let (fs, vs) = (value(model, fs, f_unit), value(model, vs, v_unit));
-        let _ = write!(s, ", Stribeck f<sub>s</sub> = {fs}, v<sub>s</sub>' = {vs}");
-    }
-    let _ = write!(
-        s,
-        ", v<sub>s</sub> = {}",
-        value(model, &fr.smoothing, v_unit)
-    );
-    if fr.k != crate::model::Value::Fixed(0.0) {
-        let _ = write!(s, ", k = {}", value(model, &fr.k, k_unit));
-    }
-    s
 }
 
 fn kind(k: SensorKind) -> &'static str {

@@ -20,7 +20,7 @@
 //! motions.
 use super::envelope::{EnvelopeCholesky, Ordering};
 use super::free::{free_directions, FreeSet};
-use super::power_law::power_law;
+use super::laws::power_law;
 use super::structure::Usage;
 use super::system::System;
 use super::SimulationError;

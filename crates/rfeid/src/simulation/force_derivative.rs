@@ -1,6 +1,6 @@
 //! The derivative of a component's force with respect to one parameter
 //! ([`force_derivative`]), shared by the dense and the sparse tangents.
-use super::friction::FrictionAt;
+use super::laws::friction::FrictionAt;
 use super::preload::{exponent_change, power_change, Preload};
 use super::structure::Usage;
 use crate::model::PowerSpring;

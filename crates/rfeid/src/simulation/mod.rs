@@ -12,13 +12,12 @@ mod force_derivative;
 #[cfg(test)]
 mod forces_tests;
 pub mod free;
-mod friction;
-mod hysteresis;
 mod integrator;
 mod lanczos;
+mod law_rows;
+pub mod laws;
 mod madd;
 pub mod modal;
-mod power_law;
 mod preload;
 mod response;
 pub mod run;

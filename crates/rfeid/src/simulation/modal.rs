@@ -19,7 +19,7 @@
 use super::equilibrium::static_equilibrium;
 use super::free::{free_directions, FreeSet};
 use super::integrator::integrator;
-use super::power_law::power_law;
+use super::laws::power_law;
 use super::simulator::Simulator;
 use super::system::System;
 use super::SimulationError;

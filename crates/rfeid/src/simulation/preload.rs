@@ -12,7 +12,7 @@
 //! cancellation, and the weights drop out with the static forces they
 //! balance. Mathematically nothing changes; the rounding becomes relative
 //! to the motion.
-use super::power_law::power_law;
+use super::laws::power_law;
 use crate::model::PowerSpring;
 
 /// A power-law spring at its static deformation δ₀, for unit coefficient.

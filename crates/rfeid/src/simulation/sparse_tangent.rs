@@ -11,9 +11,9 @@
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
 use super::force_derivative::force_derivative;
-use super::friction::FrictionAt;
+use super::laws::friction::FrictionAt;
+use super::laws::power_law;
 use super::madd::Madd;
-use super::power_law::power_law;
 use super::preload::power_change;
 use super::preload::Preload;
 use super::sparse::{SparseComp, SparsePower};

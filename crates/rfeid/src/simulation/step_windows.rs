@@ -35,7 +35,7 @@ use super::step_error::{
 };
 use super::workspace::Workspace;
 use super::SimulationError;
-use crate::model::{Law, SensorKind};
+use crate::model::SensorKind;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -173,8 +173,7 @@ impl<'a> Progress<'a> {
 /// true 3.7e-7; on the lathe with an impulse and a chirp ending mid-record
 /// they ranked the impulse's span first and said 6.3e-9 for a true 1.45e-8.
 fn windows_suffice(sim: &Simulator<'_>, params: &[f64]) -> bool {
-    let events = (sim.structure().components.iter())
-        .any(|c| matches!(c.law, Law::Friction(_) | Law::BoucWen(_)));
+    let events = (sim.structure().components.iter()).any(|c| c.law.joint().switches());
     !events
         && sim.breakpoints.is_empty()
         && sim.system(params).is_ok_and(|sys| {

@@ -3,6 +3,8 @@
 //!
 //! Every row couples at most two bodies, so rows are stored as at most two
 //! 6-blocks. Body b owns coordinates `6b .. 6b + 6`.
+use super::laws::KeyRole;
+pub use super::laws::{bouc_wen::HysteresisKey, friction::FrictionKey};
 use crate::model::geometry::{attachment, block_diag, point_direction_row};
 use crate::model::{Attachment, Law, Model, SensorKind, Value};
 use nalgebra::{Matrix3, Vector3};
@@ -108,35 +110,18 @@ pub enum Usage {
     Amplitude(usize, usize),
 }
 
-/// The keys of a friction law (SPEC §1) a parameter may stand for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FrictionKey {
-    /// `f`, the Coulomb force (for v > 0 when `f_neg` is given).
-    Coulomb,
-    /// `f_neg`, the Coulomb force for v < 0.
-    CoulombNegative,
-    /// `fs`, Stribeck's break-away force.
-    Static,
-    /// `vs`, Stribeck's velocity.
-    StribeckVelocity,
-    /// `smoothing`, the velocity of the smooth sign.
-    Smoothing,
-}
-
-/// The keys of a Bouc–Wen law (SPEC §1) that enter its internal state's
-/// rate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HysteresisKey {
-    /// `alpha`.
-    Alpha,
-    /// `beta`.
-    Beta,
-    /// `gamma`.
-    Gamma,
-    /// `d`.
-    D,
-    /// `n`, the exponent.
-    N,
+impl Usage {
+    /// The usage of a parameter standing for a law's key of `role` in
+    /// component row `i`.
+    pub fn of(role: KeyRole, i: usize) -> Usage {
+        match role {
+            KeyRole::Stiffness => Usage::Stiffness(i),
+            KeyRole::PowerCoefficient => Usage::PowerCoefficient(i),
+            KeyRole::PowerExponent => Usage::PowerExponent(i),
+            KeyRole::Friction(key) => Usage::Friction(i, key),
+            KeyRole::Hysteresis(key) => Usage::Hysteresis(i, key),
+        }
+    }
 }
 
 /// The parameter-independent structure of a model.
@@ -289,36 +274,9 @@ fn usages(model: &Model, components: &[ComponentRow]) -> Vec<Vec<Usage>> {
         }
     };
     for (i, c) in components.iter().enumerate() {
-        match &c.law {
-            Law::None => {}
-            Law::Linear { k } => add(k, Usage::Stiffness(i)),
-            Law::Power { a, m, .. } => {
-                add(a, Usage::PowerCoefficient(i));
-                add(m, Usage::PowerExponent(i));
-            }
-            Law::Friction(fr) => {
-                add(&fr.k, Usage::Stiffness(i));
-                add(&fr.f, Usage::Friction(i, FrictionKey::Coulomb));
-                if let Some(f_neg) = &fr.f_neg {
-                    add(f_neg, Usage::Friction(i, FrictionKey::CoulombNegative));
-                }
-                if let Some((fs, vs)) = &fr.stribeck {
-                    add(fs, Usage::Friction(i, FrictionKey::Static));
-                    add(vs, Usage::Friction(i, FrictionKey::StribeckVelocity));
-                }
-                add(&fr.smoothing, Usage::Friction(i, FrictionKey::Smoothing));
-            }
-            Law::BoucWen(bw) => {
-                add(&bw.k, Usage::Stiffness(i));
-                for (v, key) in [
-                    (&bw.alpha, HysteresisKey::Alpha),
-                    (&bw.beta, HysteresisKey::Beta),
-                    (&bw.gamma, HysteresisKey::Gamma),
-                    (&bw.d, HysteresisKey::D),
-                    (&bw.n, HysteresisKey::N),
-                ] {
-                    add(v, Usage::Hysteresis(i, key));
-                }
+        for key in c.law.joint().keys() {
+            if let Some(role) = key.role {
+                add(&key.value, Usage::of(role, i));
             }
         }
         add(&c.damping, Usage::Damping(i));

@@ -10,10 +10,9 @@
 //! (`System::set_reference`, `preload`).
 use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
-use super::friction::{friction_accel, friction_rows, FrictionRow};
-use super::hysteresis::{hysteresis_rows, HysteresisRow};
+use super::law_rows::{friction_accel, friction_rows, hysteresis_rows, FrictionRow, HysteresisRow};
+pub use super::laws::power_law;
 use super::madd::{Madd, Separate};
-pub use super::power_law::power_law;
 use super::preload::{power_change, Preload};
 use super::sparse::{prefer_sparse, sparse_accel, sparse_components, sparse_groups};
 use super::sparse::{SparseComp, SparseGroup, SparsePower};
@@ -704,9 +703,9 @@ fn component_matrices(
             add_outer(&mut k, n, &comp.row, kv);
         }
         match comp.law {
-            Law::None | Law::Linear { .. } | Law::Friction(_) | Law::BoucWen(_) => {}
-            Law::Power { m, .. } => {
-                let m = m.eval(params);
+            Law::None | Law::Linear(_) | Law::Friction(_) | Law::BoucWen(_) => {}
+            Law::Power(pw) => {
+                let m = pw.m.eval(params);
                 if !(m >= 1.0) {
                     return Err(SimulationError::BadExponent {
                         element: model.elements[comp.element].name.clone(),

@@ -24,9 +24,9 @@
 //! multiply the constant `B_p ∂q₀/∂x` of each power-law spring p.
 use super::dim::Dim;
 use super::force_derivative::force_derivative;
-use super::friction::{FrictionAt, FrictionForce};
+use super::laws::friction::{FrictionAt, FrictionForce};
+use super::laws::power_law;
 use super::madd::Madd;
-use super::power_law::power_law;
 use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
 use super::structure::{ComponentRow, HysteresisKey, Row, Structure, Usage};

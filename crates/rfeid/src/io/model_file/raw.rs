@@ -93,25 +93,14 @@ pub struct RawBody {
     pub axes: Option<Spanned<Vec<SVec>>>,
 }
 
+/// A component's table: its keys as written. Which keys it may hold is
+/// its law's to say (`simulation::laws`), so any key is read here and the
+/// builder refuses the ones the law does not take.
 #[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(transparent)]
 pub struct RawComponent {
-    pub law: Option<Spanned<String>>,
-    pub k: Option<SNum>,
-    pub a: Option<SNum>,
-    pub m: Option<SNum>,
-    pub c: Option<SNum>,
-    pub reference: Option<SNum>,
-    pub f: Option<SNum>,
-    pub f_neg: Option<SNum>,
-    pub fs: Option<SNum>,
-    pub vs: Option<SNum>,
-    pub smoothing: Option<SNum>,
-    pub alpha: Option<SNum>,
-    pub beta: Option<SNum>,
-    pub gamma: Option<SNum>,
-    pub d: Option<SNum>,
-    pub n: Option<SNum>,
+    /// Each key with its value (the law's name is a text value).
+    pub keys: std::collections::BTreeMap<Spanned<String>, SNum>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -5,14 +5,7 @@ use crate::simulation::system::System;
 
 /// Whether a component's law is a spring at the parameter values `p`.
 pub(super) fn has_spring(law: &Law, p: &[f64]) -> bool {
-    match law {
-        Law::None => false,
-        Law::Linear { k } => k.eval(p) != 0.0,
-        Law::Power { a, .. } => a.eval(p) != 0.0,
-        Law::Friction(fr) => fr.k.eval(p) != 0.0,
-        // At rest z = 0 and ż = α v: the hysteresis restores like a spring α.
-        Law::BoucWen(bw) => bw.k.eval(p) != 0.0 || bw.alpha.eval(p) != 0.0,
-    }
+    law.joint().is_spring(p)
 }
 
 /// `G = Σ_i b̃_i b̃_iᵀ` over the spring rows, `b̃_i = L⁻¹ b_i / |L⁻¹ b_i|`

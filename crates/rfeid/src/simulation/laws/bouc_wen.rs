@@ -7,11 +7,173 @@
 //! state vector of a run is `[q; q̇; z]`, one z per Bouc–Wen component in
 //! component order; the spring k is in the kernels' linear part, z enters
 //! the accelerations like a force `z (−M⁻¹B_iᵀ)` after either kernel.
-use super::madd::Madd;
-use super::sparse::SparseComp;
-use super::structure::HysteresisKey;
-use super::SimulationError;
-use crate::model::{BoucWen, Law, Model};
+use super::{JointLaw, KeyDims, KeyReader, KeyRole, KeyUnit, Law, LawKey, ReadLaw};
+use crate::model::Value;
+use crate::simulation::SimulationError;
+use crate::units::Dimension;
+
+/// The Bouc–Wen law of one component (SPEC §1): the force `k δ + z`, with
+/// `ż = α v − β (γ |v| |z|^(n−1) z + d v |z|^n)`, z(0) = 0, v = δ̇.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoucWen {
+    /// The elastic stiffness k (N/m or N·m/rad); 0 when absent.
+    pub k: Value,
+    /// α (N/m or N·m/rad): ż = α v for z = 0.
+    pub alpha: Value,
+    /// β, the scale of the hysteretic terms.
+    pub beta: Value,
+    /// γ, the term in |v|.
+    pub gamma: Value,
+    /// d (the benchmark's δ), the term in v.
+    pub d: Value,
+    /// The exponent n ≥ 1 (default 1).
+    pub n: Value,
+}
+
+impl JointLaw for BoucWen {
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+    fn formula(&self) -> String {
+        "Bouc–Wen k δ + z, ż = α v − β(γ|v||z|<sup>n−1</sup>z + d v|z|<sup>n</sup>)".into()
+    }
+    fn keys(&self) -> Vec<LawKey> {
+        let mut keys = Vec::new();
+        if self.k != Value::Fixed(0.0) {
+            keys.push(LawKey::new(
+                "k",
+                "k",
+                self.k,
+                KeyUnit::Stiffness,
+                KeyRole::Stiffness,
+            ));
+        }
+        let hysteresis =
+            |name, symbol, value, unit, usage| LawKey::new(name, symbol, value, unit, usage);
+        keys.extend([
+            hysteresis(
+                "alpha",
+                "α",
+                self.alpha,
+                KeyUnit::Stiffness,
+                KeyRole::Hysteresis(HysteresisKey::Alpha),
+            ),
+            hysteresis(
+                "beta",
+                "β",
+                self.beta,
+                KeyUnit::Bare,
+                KeyRole::Hysteresis(HysteresisKey::Beta),
+            ),
+            hysteresis(
+                "gamma",
+                "γ",
+                self.gamma,
+                KeyUnit::Bare,
+                KeyRole::Hysteresis(HysteresisKey::Gamma),
+            ),
+            hysteresis(
+                "d",
+                "d",
+                self.d,
+                KeyUnit::Bare,
+                KeyRole::Hysteresis(HysteresisKey::D),
+            ),
+            hysteresis(
+                "n",
+                "n",
+                self.n,
+                KeyUnit::Bare,
+                KeyRole::Hysteresis(HysteresisKey::N),
+            ),
+        ]);
+        keys
+    }
+    fn linear_stiffness(&self, p: &[f64]) -> Option<f64> {
+        Some(self.k.eval(p))
+    }
+    /// At rest z = 0 and ż = α v: the hysteresis restores like a spring α.
+    fn is_spring(&self, p: &[f64]) -> bool {
+        self.k.eval(p) != 0.0 || self.alpha.eval(p) != 0.0
+    }
+    fn small_motion(&self, p: &[f64]) -> (f64, f64) {
+        (self.alpha.eval(p), 0.0)
+    }
+    fn switches(&self) -> bool {
+        true
+    }
+}
+
+impl ReadLaw for BoucWen {
+    const NAME: &'static str = "bouc-wen";
+    const KEYS: &'static [&'static str] = &["k", "alpha", "beta", "gamma", "d", "n"];
+    const IMPLIED_BY: &'static [&'static str] = &["alpha"];
+
+    /// `alpha`, `beta`, `gamma` and `d` required, the exponent `n ≥ 1`
+    /// (default 1), an optional spring `k ≥ 0`. β's unit follows n: `ż` is
+    /// a force per second, so β γ |v| |z|^n is too (β in 1/m for n = 1).
+    fn read<E>(keys: &mut dyn KeyReader<Error = E>) -> Result<Law, E> {
+        let dims = KeyDims::of(keys.rotational());
+        let n = keys.value("n", Dimension::DIMENSIONLESS)?;
+        let n = n.unwrap_or(Value::Fixed(1.0));
+        let alpha = keys.required("alpha", dims.stiffness)?;
+        let beta_dim = dims.force.powf(1.0 - keys.nominal(n)).div(dims.length);
+        let beta = beta(keys, n, beta_dim)?;
+        let gamma = keys.required("gamma", Dimension::DIMENSIONLESS)?;
+        let d = keys.required("d", Dimension::DIMENSIONLESS)?;
+        let k = keys.value("k", dims.stiffness)?;
+        Ok(Law::BoucWen(BoucWen {
+            k: k.unwrap_or(Value::Fixed(0.0)),
+            alpha,
+            beta,
+            gamma,
+            d,
+            n,
+        }))
+    }
+}
+
+/// Bouc–Wen's β, of dimension `dim`: N^(1−n)/m at n's value (1/m for
+/// n = 1). With n a parameter, whose value the search, `--set` or an
+/// experiment's `set` changes, a unit would mean a different β at each n:
+/// β is then a bare number (or a parameter with bare numbers), taken in N
+/// and m (N·m and rad for a rotation) at every n, and a unit is refused
+/// saying so.
+fn beta<E>(keys: &mut dyn KeyReader<Error = E>, n: Value, dim: Dimension) -> Result<Value, E> {
+    if let Value::Param(ni) = n {
+        if keys.given("beta") && keys.has_unit("beta") {
+            let si = match keys.rotational() {
+                true => "N·m and rad",
+                false => "N and m",
+            };
+            let message = format!(
+                "n is the parameter '{}', so beta's unit, N^(1−n)/m ({dim} at n = {}), changes \
+                 with n: write beta (or its parameter's value, min and max) as a bare number, \
+                 taken in {si} at every n",
+                keys.parameter_name(ni),
+                keys.nominal(n)
+            );
+            return Err(keys.refuse("beta", message));
+        }
+    }
+    keys.required("beta", dim)
+}
+
+/// The keys of a Bouc–Wen law (SPEC §1) that enter its internal state's
+/// rate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HysteresisKey {
+    /// `alpha`.
+    Alpha,
+    /// `beta`.
+    Beta,
+    /// `gamma`.
+    Gamma,
+    /// `d`.
+    D,
+    /// `n`, the exponent.
+    N,
+}
 
 /// A Bouc–Wen law with numbers in.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -21,16 +183,6 @@ pub(crate) struct BoucWenLaw {
     gamma: f64,
     d: f64,
     n: f64,
-}
-
-/// A Bouc–Wen component of the kernels: its index in the component list
-/// ([`SparseComp`], whose rows it uses) and its law.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct HysteresisRow {
-    /// The component's index.
-    pub comp: usize,
-    /// The law at the run's parameter values.
-    pub law: BoucWenLaw,
 }
 
 /// `(|z|^n, |z|^(n−1))`, exact for n = 1 (then `|z|^0 = 1`, also at z = 0).
@@ -150,104 +302,6 @@ fn sign(x: f64) -> f64 {
         x if x > 0.0 => 1.0,
         x if x < 0.0 => -1.0,
         _ => 0.0,
-    }
-}
-
-/// The Bouc–Wen components of `model`'s component rows (in order) with
-/// their laws at the parameter values `p`.
-pub(crate) fn hysteresis_rows(
-    model: &Model,
-    components: &[super::structure::ComponentRow],
-    p: &[f64],
-) -> Result<Vec<HysteresisRow>, SimulationError> {
-    let mut rows = Vec::new();
-    for (i, c) in components.iter().enumerate() {
-        if let Law::BoucWen(bw) = &c.law {
-            let element = &model.elements[c.element].name;
-            rows.push(HysteresisRow {
-                comp: i,
-                law: BoucWenLaw::new(bw, p, element)?,
-            });
-        }
-    }
-    Ok(rows)
-}
-
-/// Adds `z_j (−M⁻¹B_jᵀ)` of each Bouc–Wen component j to the accelerations
-/// `acc`, for the internal states `z` (empty: z = 0).
-#[inline(always)]
-pub(crate) fn hysteresis_accel<M: Madd>(
-    comps: &[SparseComp],
-    rows: &[HysteresisRow],
-    z: &[f64],
-    acc: &mut [f64],
-) {
-    for (row, &z) in rows.iter().zip(z) {
-        let c = &comps[row.comp];
-        let [o0, o1] = c.off;
-        for i in 0..6 {
-            acc[o0 + i] = M::madd(z, c.g[i], acc[o0 + i]);
-        }
-        for i in 0..6 {
-            acc[o1 + i] = M::madd(z, c.g[6 + i], acc[o1 + i]);
-        }
-    }
-}
-
-/// ż of each Bouc–Wen component into `zdot`, for the velocities `v` and
-/// the internal states `z`.
-#[inline(always)]
-pub(crate) fn hysteresis_rates<M: Madd>(
-    comps: &[SparseComp],
-    rows: &[HysteresisRow],
-    (v, z): (&[f64], &[f64]),
-    zdot: &mut [f64],
-) {
-    for ((row, &z), zd) in rows.iter().zip(z).zip(zdot) {
-        *zd = row.law.rate(comps[row.comp].rate::<M>(v), z);
-    }
-}
-
-/// The Bouc–Wen terms of the sensitivities' right-hand side, for rows
-/// `width` long: `dacc += Σ_j (−M⁻¹B_jᵀ) Y_z[j]` (n rows), and
-/// `dz[j] = ∂ż/∂v B_j Y_v + ∂ż/∂z Y_z[j] + ∂ż_j/∂x` (one row per
-/// component); `usages[j]` lists (column, key) of the parameters acting on
-/// component j's law.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub(crate) fn hysteresis_tangent<M: Madd>(
-    comps: &[SparseComp],
-    rows: &[HysteresisRow],
-    usages: &[Vec<(usize, HysteresisKey)>],
-    (v, z): (&[f64], &[f64]),
-    (yv, yz): (&[f64], &[f64]),
-    width: usize,
-    dacc: &mut [f64],
-    dz: &mut [f64],
-) {
-    for (j, row) in rows.iter().enumerate() {
-        let c = &comps[row.comp];
-        let yzj = &yz[j * width..(j + 1) * width];
-        let out = &mut dz[j * width..(j + 1) * width];
-        let at = row.law.at(c.rate::<M>(v), z[j]);
-        let (sv, sz) = at.slopes();
-        for (o, y) in out.iter_mut().zip(yzj) {
-            *o = sz * y;
-        }
-        for (i, (&b, &g)) in c.b.iter().zip(&c.g).enumerate() {
-            if b == 0.0 && g == 0.0 {
-                continue;
-            }
-            let at = (c.off[i / 6] + i % 6) * width;
-            let (yvi, acc) = (&yv[at..at + width], &mut dacc[at..at + width]);
-            for l in 0..width {
-                out[l] = M::madd(sv * b, yvi[l], out[l]);
-                acc[l] = M::madd(g, yzj[l], acc[l]);
-            }
-        }
-        for &(col, key) in &usages[j] {
-            out[col] += at.derivative(key);
-        }
     }
 }
 

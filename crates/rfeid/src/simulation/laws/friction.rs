@@ -8,11 +8,204 @@
 //! (e = 0 without Stribeck's peak). Every term is smooth in v and in the
 //! keys, so the integrator keeps its order through v = 0 and the criterion
 //! stays smooth in the parameters.
-use super::madd::Madd;
-use super::sparse::SparseComp;
-use super::structure::FrictionKey;
-use super::SimulationError;
-use crate::model::{Friction, Model};
+use super::{JointLaw, KeyDims, KeyReader, KeyRole, KeyUnit, Law, LawKey, ReadLaw};
+use crate::model::Value;
+use crate::simulation::SimulationError;
+
+/// The friction law of one component (SPEC §1): the Coulomb force F
+/// smoothed by `tanh(v / v_s)`, asymmetric with `f_neg`, with Stribeck's
+/// peak `F(v) = F₀(v) + (f_s − F₀(v)) exp(−(v/v_s')²)`, and a parallel
+/// spring k. The component's `c` adds viscous friction.
+///
+/// An asymmetric Coulomb force switches smoothly with the same sign
+/// function, `F₀(v) = ½(f + f_neg) + ½(f − f_neg) tanh(v / v_s)`: f for
+/// v ≫ v_s, f_neg for v ≪ −v_s, and the force stays smooth in v (a step
+/// across v = 0 keeps the integrator's order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Friction {
+    /// Parallel stiffness k (N/m or N·m/rad); 0 when absent.
+    pub k: Value,
+    /// Coulomb force f for v > 0 (N, or N·m for a rotation).
+    pub f: Value,
+    /// Coulomb force for v < 0; f when absent (symmetric friction).
+    pub f_neg: Option<Value>,
+    /// Stribeck: the static (break-away) force f_s and its velocity v_s'.
+    pub stribeck: Option<(Value, Value)>,
+    /// The smoothing velocity v_s of the sign (m/s or rad/s).
+    pub smoothing: Value,
+}
+
+impl JointLaw for Friction {
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+    fn formula(&self) -> String {
+        "friction F(v)·tanh(v/v<sub>s</sub>)".into()
+    }
+    fn keys(&self) -> Vec<LawKey> {
+        let key = |name, symbol, value, unit, usage| LawKey::new(name, symbol, value, unit, usage);
+        let mut keys = Vec::new();
+        if self.k != Value::Fixed(0.0) {
+            keys.push(key(
+                "k",
+                "k",
+                self.k,
+                KeyUnit::Stiffness,
+                KeyRole::Stiffness,
+            ));
+        }
+        keys.push(key(
+            "f",
+            "f",
+            self.f,
+            KeyUnit::Force,
+            KeyRole::Friction(FrictionKey::Coulomb),
+        ));
+        if let Some(f_neg) = self.f_neg {
+            keys.push(key(
+                "f_neg",
+                "f<sub>neg</sub>",
+                f_neg,
+                KeyUnit::Force,
+                KeyRole::Friction(FrictionKey::CoulombNegative),
+            ));
+        }
+        if let Some((fs, vs)) = self.stribeck {
+            keys.push(key(
+                "fs",
+                "f<sub>s</sub>",
+                fs,
+                KeyUnit::Force,
+                KeyRole::Friction(FrictionKey::Static),
+            ));
+            keys.push(key(
+                "vs",
+                "v<sub>s</sub>'",
+                vs,
+                KeyUnit::Velocity,
+                KeyRole::Friction(FrictionKey::StribeckVelocity),
+            ));
+        }
+        keys.push(key(
+            "smoothing",
+            "v<sub>s</sub>",
+            self.smoothing,
+            KeyUnit::Velocity,
+            KeyRole::Friction(FrictionKey::Smoothing),
+        ));
+        keys
+    }
+    fn linear_stiffness(&self, p: &[f64]) -> Option<f64> {
+        Some(self.k.eval(p))
+    }
+    fn is_spring(&self, p: &[f64]) -> bool {
+        self.k.eval(p) != 0.0
+    }
+    /// At rest the force's slope `F(0)/v_s` is a damping.
+    fn small_motion(&self, p: &[f64]) -> (f64, f64) {
+        (0.0, self.at_rest(p).slope)
+    }
+    fn switches(&self) -> bool {
+        true
+    }
+}
+
+impl ReadLaw for Friction {
+    const NAME: &'static str = "friction";
+    const KEYS: &'static [&'static str] = &["k", "f", "f_neg", "fs", "vs", "smoothing"];
+    const IMPLIED_BY: &'static [&'static str] = &["f"];
+
+    /// A Coulomb force `f ≥ 0`, optional `f_neg ≥ 0`, Stribeck's `fs` and
+    /// `vs` together, the smoothing velocity (default 1 mm/s, or 1 mrad/s
+    /// for a rotation) and an optional parallel spring `k`.
+    fn read<E>(keys: &mut dyn KeyReader<Error = E>) -> Result<Law, E> {
+        let dims = KeyDims::of(keys.rotational());
+        let f = keys.required("f", dims.force)?;
+        let f_neg = keys.value("f_neg", dims.force)?;
+        let stribeck = match (keys.given("fs"), keys.given("vs")) {
+            (true, true) => {
+                let fs = keys.required("fs", dims.force)?;
+                Some((fs, keys.required("vs", dims.velocity)?))
+            }
+            (false, false) => None,
+            (fs, _) => {
+                let (given, other) = if fs { ("fs", "vs") } else { ("vs", "fs") };
+                let message = format!("Stribeck friction needs both fs and vs: add '{other}'");
+                return Err(keys.refuse(given, message));
+            }
+        };
+        let smoothing = keys.value("smoothing", dims.velocity)?;
+        let k = keys.value("k", dims.stiffness)?;
+        Ok(Law::Friction(Friction {
+            k: k.unwrap_or(Value::Fixed(0.0)),
+            f,
+            f_neg,
+            stribeck,
+            smoothing: smoothing.unwrap_or(Value::Fixed(1e-3)),
+        }))
+    }
+}
+
+/// A friction law's force slope at v = 0 and what its derivatives in the
+/// keys need.
+struct AtRest {
+    /// `F(0) / v_s`.
+    slope: f64,
+    /// `F(0)`: f_s with Stribeck's peak, else ½(f + f_neg).
+    f_rest: f64,
+    /// `1 / v_s`.
+    inv_s: f64,
+}
+
+impl Friction {
+    /// [`AtRest`] at the parameter values `p`.
+    fn at_rest(&self, p: &[f64]) -> AtRest {
+        let f = self.f.eval(p);
+        let f_neg = self.f_neg.map_or(f, |v| v.eval(p));
+        let inv_s = 1.0 / self.smoothing.eval(p);
+        let f_rest = match self.stribeck {
+            Some((fs, _)) => fs.eval(p),
+            None => 0.5 * (f + f_neg),
+        };
+        AtRest {
+            slope: f_rest * inv_s,
+            f_rest,
+            inv_s,
+        }
+    }
+
+    /// `∂(F(0)/v_s)/∂key` at the parameter values `p`: the derivative of
+    /// the small-motion damping ([`JointLaw::small_motion`]).
+    pub fn rest_slope_derivative(&self, p: &[f64], key: FrictionKey) -> f64 {
+        let at = self.at_rest(p);
+        let (stribeck, asymmetric) = (self.stribeck.is_some(), self.f_neg.is_some());
+        match key {
+            FrictionKey::Coulomb if stribeck => 0.0,
+            FrictionKey::Coulomb if asymmetric => 0.5 * at.inv_s,
+            FrictionKey::Coulomb => at.inv_s,
+            FrictionKey::CoulombNegative if stribeck => 0.0,
+            FrictionKey::CoulombNegative => 0.5 * at.inv_s,
+            FrictionKey::Static => at.inv_s,
+            FrictionKey::StribeckVelocity => 0.0,
+            FrictionKey::Smoothing => -at.f_rest * at.inv_s * at.inv_s,
+        }
+    }
+}
+
+/// The keys of a friction law (SPEC §1) a parameter may stand for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FrictionKey {
+    /// `f`, the Coulomb force (for v > 0 when `f_neg` is given).
+    Coulomb,
+    /// `f_neg`, the Coulomb force for v < 0.
+    CoulombNegative,
+    /// `fs`, Stribeck's break-away force.
+    Static,
+    /// `vs`, Stribeck's velocity.
+    StribeckVelocity,
+    /// `smoothing`, the velocity of the smooth sign.
+    Smoothing,
+}
 
 /// A friction law with numbers in.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,16 +224,6 @@ pub(crate) struct FrictionForce {
     inv_vs: f64,
     /// `1 / v_s` (the smoothing velocity).
     inv_s: f64,
-}
-
-/// A friction component of the kernels: its index in the component list
-/// ([`SparseComp`], whose rows it uses) and its law.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct FrictionRow {
-    /// The component's index.
-    pub comp: usize,
-    /// The law at the run's parameter values.
-    pub law: FrictionForce,
 }
 
 /// The terms every evaluation shares at velocity v.
@@ -220,50 +403,6 @@ impl<'a> FrictionAt<'a> {
                 let dt = -v * law.inv_s * law.inv_s * (1.0 - t * t);
                 (f + t * (1.0 - e) * law.half) * dt
             }
-        }
-    }
-}
-
-/// The friction components of `model`'s component rows (in order) with
-/// their laws at the parameter values `p`.
-pub(crate) fn friction_rows(
-    model: &Model,
-    components: &[super::structure::ComponentRow],
-    p: &[f64],
-) -> Result<Vec<FrictionRow>, SimulationError> {
-    let mut rows = Vec::new();
-    for (i, c) in components.iter().enumerate() {
-        if let crate::model::Law::Friction(fr) = &c.law {
-            let element = &model.elements[c.element].name;
-            rows.push(FrictionRow {
-                comp: i,
-                law: FrictionForce::new(fr, p, element)?,
-            });
-        }
-    }
-    Ok(rows)
-}
-
-/// Adds each friction component's `φ(v) (−M⁻¹B_iᵀ)` to the accelerations
-/// `acc` for the velocities `v` (after either kernel, which carry the
-/// components' springs and dampers).
-#[inline(always)]
-pub(crate) fn friction_accel<M: Madd>(
-    comps: &[SparseComp],
-    frictions: &[FrictionRow],
-    v: &[f64],
-    acc: &mut [f64],
-) {
-    for fr in frictions {
-        let c = &comps[fr.comp];
-        let f = fr.law.force(c.rate::<M>(v));
-        let [o0, o1] = c.off;
-        // A ground element's second block has zero coefficients.
-        for i in 0..6 {
-            acc[o0 + i] = M::madd(f, c.g[i], acc[o0 + i]);
-        }
-        for i in 0..6 {
-            acc[o1 + i] = M::madd(f, c.g[6 + i], acc[o1 + i]);
         }
     }
 }
