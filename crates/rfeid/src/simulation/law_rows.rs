@@ -4,7 +4,7 @@
 //! `f (−M⁻¹B_iᵀ)` after either kernel; a Bouc–Wen law's state z also has
 //! its rate and the sensitivities' terms (eq. 27–28 extended by the rows of
 //! ∂z/∂x).
-use super::laws::bouc_wen::BoucWenLaw;
+use super::laws::bouc_wen::{BoucWenLaw, Branch};
 use super::laws::friction::FrictionForce;
 use super::laws::Law;
 use super::madd::Madd;
@@ -114,16 +114,18 @@ pub(crate) fn hysteresis_accel<M: Madd>(
 }
 
 /// ż of each Bouc–Wen component into `zdot`, for the velocities `v` and
-/// the internal states `z`.
+/// the internal states `z`, on the branches `branch`
+/// ([`BoucWenLaw::on_branch`]).
 #[inline(always)]
 pub(crate) fn hysteresis_rates<M: Madd>(
     comps: &[SparseComp],
     rows: &[HysteresisRow],
-    (v, z): (&[f64], &[f64]),
+    (v, z, branch): (&[f64], &[f64], &[Branch]),
     zdot: &mut [f64],
 ) {
-    for ((row, &z), zd) in rows.iter().zip(z).zip(zdot) {
-        *zd = row.law.rate(comps[row.comp].rate::<M>(v), z);
+    for (((row, &z), zd), &b) in rows.iter().zip(z).zip(zdot).zip(branch) {
+        let v = comps[row.comp].rate::<M>(v);
+        *zd = row.law.on_branch(v, z, b).rate();
     }
 }
 
@@ -131,14 +133,14 @@ pub(crate) fn hysteresis_rates<M: Madd>(
 /// `width` long: `dacc += Σ_j (−M⁻¹B_jᵀ) Y_z[j]` (n rows), and
 /// `dz[j] = ∂ż/∂v B_j Y_v + ∂ż/∂z Y_z[j] + ∂ż_j/∂x` (one row per
 /// component); `usages[j]` lists (column, key) of the parameters acting on
-/// component j's law.
+/// component j's law, evaluated on `branch[j]`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn hysteresis_tangent<M: Madd>(
     comps: &[SparseComp],
     rows: &[HysteresisRow],
     usages: &[Vec<(usize, HysteresisKey)>],
-    (v, z): (&[f64], &[f64]),
+    (v, z, branch): (&[f64], &[f64], &[Branch]),
     (yv, yz): (&[f64], &[f64]),
     width: usize,
     dacc: &mut [f64],
@@ -148,7 +150,7 @@ pub(crate) fn hysteresis_tangent<M: Madd>(
         let c = &comps[row.comp];
         let yzj = &yz[j * width..(j + 1) * width];
         let out = &mut dz[j * width..(j + 1) * width];
-        let at = row.law.at(c.rate::<M>(v), z[j]);
+        let at = row.law.on_branch(c.rate::<M>(v), z[j], branch[j]);
         let (sv, sz) = at.slopes();
         for (o, y) in out.iter_mut().zip(yzj) {
             *o = sz * y;

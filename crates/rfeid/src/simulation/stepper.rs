@@ -1,13 +1,17 @@
 //! One explicit Runge–Kutta step of the state and, optionally, of its
 //! sensitivities, with steps split at the zero crossings of power-law
-//! deformations.
+//! deformations and at the kinks of the Bouc–Wen law (its component's
+//! velocity or its state z changing sign).
 //!
 //! The force `a·sign(δ)|δ|^m` (m > 1) has a second derivative that jumps at
 //! δ = 0. A step across such a point loses the method's order (local error
 //! O(h⁴) whatever the order). So each step is first taken for the state
 //! alone; if a power-law δ changes sign, the crossing instant is located on
 //! the cubic Hermite interpolant of δ (from δ and δ̇ at both ends, error
-//! O(h⁴) in δ) and the step is redone in pieces that end there.
+//! O(h⁴) in δ) and the step is redone in pieces that end there. The
+//! Bouc–Wen rate `ż = α v − β (γ |v| |z|^(n−1) z + d v |z|^n)` is continuous
+//! but its slope jumps where v or z (n = 1) changes sign: the same split,
+//! located on a quadratic ([`Stepper::find_hysteresis_crossings`]).
 //!
 //! The sensitivities go through the same stages: for a fixed split they are
 //! the exact derivative of the discrete solution. The split instant itself
@@ -15,13 +19,14 @@
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
 use super::dim::Dim;
-use super::hysteresis::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
+use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
+use super::laws::bouc_wen::Branch;
 use super::madd::Madd;
 use super::sines::StageSines;
 use super::system::System;
 use super::tableau::Tableau;
 use super::tangent::Tangent;
-use super::workspace::Workspace;
+use super::workspace::{InternalStates, Workspace};
 use std::marker::PhantomData;
 
 /// Crossings closer together than this fraction of a step are one split.
@@ -39,6 +44,9 @@ pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     /// The excitation at the stages by angle addition, when it is all sines.
     sines: Option<StageSines>,
     locate: bool,
+    /// The last stage evaluated at the step's end (c = 1), if any: its
+    /// accelerations estimate q̈ there for [`Stepper::find_hysteresis_crossings`].
+    end_stage: Option<usize>,
     /// The nonzero `a_ij` of each stage, as (j, a_ij).
     a_nz: Vec<Coefs>,
     /// The nonzero `b_i`, as (i, b_i).
@@ -83,6 +91,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             tangent: Tangent::new(sys, wrt),
             sines: StageSines::new(sys.model, &sys.params, tab.c, h),
             locate,
+            end_stage: (0..tab.stages()).rev().find(|&i| tab.c[i] == 1.0),
             a_nz: tab.a.iter().map(|r| nonzero(r)).collect(),
             b_nz: nonzero(tab.b),
             kernel: PhantomData,
@@ -118,10 +127,16 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         }
         self.derivative(ws, 0, t);
         if with_sens {
-            ws.sy_stage.copy_from_slice(&ws.sy);
-            ws.z.sy_stage.copy_from_slice(&ws.z.sy);
-            self.sens_derivative(ws, 0, t);
+            self.first_sens_stage(ws, t);
         }
+    }
+
+    /// The sensitivities' stage 0 at t, from `sy`.
+    #[inline(always)]
+    fn first_sens_stage(&self, ws: &mut Workspace, t: f64) {
+        ws.sy_stage.copy_from_slice(&ws.sy);
+        ws.z.sy_stage.copy_from_slice(&ws.z.sy);
+        self.sens_derivative(ws, 0, t);
     }
 
     /// Advances `y` (and `sy`) from t by h; stage 0 must hold `F(t, y)`.
@@ -129,8 +144,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// One loop over the step's pieces, so that the stages are compiled
     /// once per kernel (each call site of an inlined stage is a copy of the
     /// whole force and tangent code): the first pass is the trial step of
-    /// the state alone; if a power-law deformation changes sign in it, the
-    /// step is redone in pieces ending at the crossings.
+    /// the state alone; if a power-law deformation, or a Bouc–Wen
+    /// velocity or state, changes sign in it, the step is redone in pieces
+    /// ending at the crossings.
     #[inline(always)]
     pub fn step(&self, ws: &mut Workspace, t: f64, h: f64, with_sens: bool) {
         let mut split = false;
@@ -142,8 +158,18 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 true => (t + from * h, (to - from) * h),
                 false => (t, h),
             };
+            if split {
+                // Each piece on its side of the kinks (Bouc–Wen).
+                let z = &mut ws.z;
+                z.branch_before.copy_from_slice(&z.branch);
+                set_branches(z, (from, to));
+            }
             if split && piece > 0 {
-                self.first_stage(ws, ti, with_sens);
+                self.first_stage(ws, ti, false);
+                if with_sens {
+                    self.event_jumps(ws);
+                    self.first_sens_stage(ws, ti);
+                }
             }
             self.state_stages(ws, ti, hi);
             if !split && self.locate && self.find_crossings(ws, h) {
@@ -157,6 +183,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             std::mem::swap(&mut ws.y, &mut ws.y_new);
             std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
             if last {
+                ws.z.branch.fill(Branch::NATURAL);
                 return;
             }
             from = to;
@@ -187,7 +214,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             let zs = &ws.z.y_stage[i * nz..(i + 1) * nz];
             hysteresis_accel::<M>(comps, rows, zs, &mut ki[n..]);
             let kz = &mut ws.z.k[i * nz..(i + 1) * nz];
-            hysteresis_rates::<M>(comps, rows, (&ys[n..], zs), kz);
+            hysteresis_rates::<M>(comps, rows, (&ys[n..], zs, &ws.z.branch), kz);
         }
     }
 
@@ -226,7 +253,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             let dz = &mut ws.z.ks[i * nz * w..(i + 1) * nz * w];
             let yv = &ws.sy_stage[n * w..2 * n * w];
             let usages = self.tangent.hysteresis_usages();
-            let states = (&ys[n..], zs);
+            let states = (&ys[n..], zs, &ws.z.branch[..]);
             hysteresis_tangent::<M>(comps, rows, usages, states, (yv, &ws.z.sy_stage), w, dv, dz);
         }
     }
@@ -299,14 +326,185 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             }
             let v0 = h * pr.row.dot(&ws.y[n..]);
             let v1 = h * pr.row.dot(&ws.y_new[n..]);
-            let theta = hermite_root(d0, v0, d1, v1);
-            if theta > 0.0 && theta < 1.0 {
-                ws.crossings.push(theta);
-            }
+            push_inside(&mut ws.crossings, hermite_root(d0, v0, d1, v1));
         }
+        self.find_hysteresis_crossings(ws, h);
         ws.crossings.sort_by(f64::total_cmp);
         ws.crossings.dedup_by(|a, b| (*a - *b).abs() < MERGE);
         !ws.crossings.is_empty()
+    }
+
+    /// Adds to `ws.crossings` the fractions of the step at which a
+    /// Bouc–Wen component's velocity v or state z changes sign: its rate
+    /// has a kink in v (the term in |v|) and one in z (the term in |z|^n,
+    /// whose slope jumps at z = 0 for n = 1). Each is located on the cubic
+    /// Hermite interpolant of its values and rates at both ends: ż from the
+    /// law, v̇ = B q̈ from stage 0 and from the last stage at the step's end
+    /// (`end_stage`, an estimate good to O(h³)). Every sign change of the
+    /// cubic counts, two or three in one step too: a reversal and its
+    /// return within one step, missed, would cost O(h²) in the step.
+    fn find_hysteresis_crossings(&self, ws: &mut Workspace, h: f64) {
+        let n = D::n(self.sys.n);
+        let (comps, rows) = (&self.sys.comps, &self.sys.hysteresis);
+        let n2 = 2 * n;
+        ws.z.marks.clear();
+        let end_acc = match self.end_stage {
+            Some(i) => &ws.k[i * n2 + n..(i + 1) * n2],
+            None => &ws.k[n..n2],
+        };
+        for (j, row) in rows.iter().enumerate() {
+            let c = &comps[row.comp];
+            let v0 = c.rate::<M>(&ws.y[n..]);
+            let v1 = c.rate::<M>(&ws.y_new[n..]);
+            let a0 = h * c.rate::<M>(&ws.k[n..n2]);
+            let a1 = h * c.rate::<M>(end_acc);
+            let found = ws.crossings.len();
+            cubic_roots(v0, a0, v1, a1, &mut ws.crossings);
+            let z = &mut ws.z;
+            z.marks
+                .extend(ws.crossings[found..].iter().map(|&t| (t, j, false)));
+            let (z0, z1) = (ws.z.y[j], ws.z.y_new[j]);
+            let r0 = h * ws.z.k[j];
+            let r1 = h * row.law.rate(v1, z1);
+            let found = ws.crossings.len();
+            cubic_roots(z0, r0, z1, r1, &mut ws.crossings);
+            let z = &mut ws.z;
+            z.marks
+                .extend(ws.crossings[found..].iter().map(|&t| (t, j, true)));
+            ws.z.ends[j] = [v0, a0, v1, a1, z0, r0, z1, r1];
+        }
+    }
+}
+
+impl<M: Madd, D: Dim> Stepper<'_, M, D> {
+    /// The jumps of the Bouc–Wen states' sensitivities at a located kink,
+    /// between a piece and the next (stage 0 of the next in `ws.k`): the
+    /// instant t* of the kink g = 0 (g the component's velocity v, or its
+    /// state z) moves with the parameters, `dt*/dx = −(∂g/∂y s)/(ġ)`, and
+    /// the rate ż changes branch there: `Δs_z = (ż⁻ − ż⁺) dt*/dx`. ż is
+    /// continuous across the kink, so the jump is of the order of the
+    /// located instant's error; it is what makes the sensitivities the
+    /// derivative of the computed response, whose split instants move with
+    /// the parameters.
+    fn event_jumps(&self, ws: &mut Workspace) {
+        let n = D::n(self.sys.n);
+        let w = self.tangent.width;
+        let (comps, rows) = (&self.sys.comps, &self.sys.hysteresis);
+        for (j, row) in rows.iter().enumerate() {
+            let (before, after) = (ws.z.branch_before[j], ws.z.branch[j]);
+            if (before.v, before.z) == (after.v, after.z) {
+                continue;
+            }
+            let c = &comps[row.comp];
+            let (v, z) = (c.rate::<M>(&ws.y[n..]), ws.z.y[j]);
+            let rate = |b| row.law.on_branch(v, z, b).rate();
+            let between = Branch {
+                v: after.v,
+                v_reach: after.v_reach,
+                ..before
+            };
+            let s_z = &mut ws.z.sy[j * w..(j + 1) * w];
+            let v_dot = c.rate::<M>(&ws.k[n..2 * n]);
+            let jump = rate(before) - rate(between);
+            if before.v != after.v && jump != 0.0 && v_dot != 0.0 {
+                for (col, s) in s_z.iter_mut().enumerate() {
+                    let mut g_s = 0.0;
+                    for (i, &b) in c.b.iter().enumerate() {
+                        g_s += b * ws.sy[(n + c.off[i / 6] + i % 6) * w + col];
+                    }
+                    *s -= jump * g_s / v_dot;
+                }
+            }
+            let (jump, z_dot) = (rate(between) - rate(after), ws.z.k[j]);
+            if before.z != after.z && jump != 0.0 && z_dot != 0.0 {
+                for s in s_z.iter_mut() {
+                    *s -= jump * *s / z_dot;
+                }
+            }
+        }
+    }
+}
+
+/// The branches of each Bouc–Wen component for the piece `(from, to)` of a
+/// split step: a value whose kink was located at either end of the piece
+/// is held on the piece's side, the sign there of its interpolant from the
+/// trial step; every other value takes its own sign (a forced side where no
+/// kink was located would misread a value that crosses unseen, as when a
+/// trial step far off misses a crossing of a motion growing without bound).
+fn set_branches(z: &mut InternalStates, (from, to): (f64, f64)) {
+    let theta = 0.5 * (from + to);
+    z.branch.fill(Branch::NATURAL);
+    let at_end = |t: f64| (t - from).abs() < MERGE || (t - to).abs() < MERGE;
+    for &(_, j, is_z) in z.marks.iter().filter(|m| at_end(m.0)) {
+        let (e, b) = (&z.ends[j], &mut z.branch[j]);
+        match is_z {
+            false => {
+                b.v = hermite(e[0], e[1], e[2], e[3], theta).signum();
+                b.v_reach = f64::INFINITY;
+            }
+            true => {
+                b.z = hermite(e[4], e[5], e[6], e[7], theta).signum();
+                b.z_reach = f64::INFINITY;
+            }
+        }
+    }
+}
+
+/// The cubic Hermite interpolant with values x0, x1 and slopes (per unit θ)
+/// s0, s1 at θ.
+fn hermite(x0: f64, s0: f64, x1: f64, s1: f64, t: f64) -> f64 {
+    let c3 = 2.0 * (x0 - x1) + s0 + s1;
+    let c2 = 3.0 * (x1 - x0) - 2.0 * s0 - s1;
+    x0 + t * (s0 + t * (c2 + t * c3))
+}
+
+/// Pushes every θ in (0, 1) where the cubic Hermite interpolant with values
+/// x0, x1 and slopes (per unit θ) s0, s1 changes sign: the interval is cut
+/// at the cubic's turning points, and each monotone piece that changes
+/// sign holds one root, found by bisection.
+fn cubic_roots(x0: f64, s0: f64, x1: f64, s1: f64, crossings: &mut Vec<f64>) {
+    // p(θ) = x0 + s0 θ + c2 θ² + c3 θ³.
+    let c3 = 2.0 * (x0 - x1) + s0 + s1;
+    let c2 = 3.0 * (x1 - x0) - 2.0 * s0 - s1;
+    let p = |t: f64| hermite(x0, s0, x1, s1, t);
+    // Turning points: roots of s0 + 2 c2 θ + 3 c3 θ².
+    let (a, b, c) = (3.0 * c3, 2.0 * c2, s0);
+    let mut cuts = [0.0, 1.0, 1.0, 1.0];
+    let mut k = 1;
+    if a != 0.0 {
+        let disc = b * b - 4.0 * a * c;
+        if disc > 0.0 {
+            let r = disc.sqrt();
+            let q = -0.5 * (b + b.signum() * r);
+            for t in [q / a, if q != 0.0 { c / q } else { f64::NAN }] {
+                if t > 0.0 && t < 1.0 {
+                    cuts[k] = t;
+                    k += 1;
+                }
+            }
+        }
+    } else if b != 0.0 {
+        let t = -c / b;
+        if t > 0.0 && t < 1.0 {
+            cuts[k] = t;
+            k += 1;
+        }
+    }
+    cuts[1..=k].sort_by(f64::total_cmp);
+    for w in cuts[..=k].windows(2) {
+        let (lo, hi) = (w[0], w[1]);
+        let (plo, phi) = (p(lo), p(hi));
+        if plo * phi < 0.0 {
+            let t = bracketed_root(|s| p(lo + s * (hi - lo)), plo < 0.0);
+            push_inside(crossings, lo + t * (hi - lo));
+        }
+    }
+}
+
+/// Pushes θ if it is inside the step (0 < θ < 1).
+fn push_inside(crossings: &mut Vec<f64>, theta: f64) {
+    if theta > 0.0 && theta < 1.0 {
+        crossings.push(theta);
     }
 }
 
@@ -321,10 +519,14 @@ fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
             + (-2.0 * s3 + 3.0 * s2) * d1
             + (s3 - s2) * v1
     };
-    // Bisection on the bracket: the interpolant may have several roots, and
-    // any one inside is as good (the sign change is what matters).
+    bracketed_root(p, d0 < 0.0)
+}
+
+/// A root in (0, 1) of `p`, which changes sign there (`neg_at_lo`: p(0) <
+/// 0), by bisection: an interpolant may have several roots, and any one
+/// inside is as good (the sign change is what matters).
+fn bracketed_root(p: impl Fn(f64) -> f64, neg_at_lo: bool) -> f64 {
     let (mut lo, mut hi) = (0.0, 1.0);
-    let neg_at_lo = d0 < 0.0;
     for _ in 0..40 {
         let mid = 0.5 * (lo + hi);
         if (p(mid) < 0.0) == neg_at_lo {
@@ -493,7 +695,39 @@ unsafe fn stage_sum<M: Madd, const W: usize>(
 
 #[cfg(test)]
 mod tests {
-    use super::hermite_root;
+    use super::{cubic_roots, hermite_root};
+
+    #[test]
+    fn cubic_roots_finds_every_crossing_inside_the_step() {
+        // Values and slopes at 0 and 1 of a cubic p.
+        let ends =
+            |p: &dyn Fn(f64) -> f64, dp: &dyn Fn(f64) -> f64| (p(0.0), dp(0.0), p(1.0), dp(1.0));
+        let found = |(x0, s0, x1, s1): (f64, f64, f64, f64)| {
+            let mut out = Vec::new();
+            cubic_roots(x0, s0, x1, s1, &mut out);
+            out.sort_by(f64::total_cmp);
+            out
+        };
+        // One root: (θ − 0.4)(θ + 2).
+        let r = found(ends(&|t| (t - 0.4) * (t + 2.0), &|t| 2.0 * t + 1.6));
+        assert_eq!(r.len(), 1);
+        assert!((r[0] - 0.4).abs() < 1e-11);
+        // A reversal and its return: (θ − 0.2)(θ − 0.7), the same sign at
+        // both ends.
+        let r = found(ends(&|t| (t - 0.2) * (t - 0.7), &|t| 2.0 * t - 0.9));
+        assert_eq!(r.len(), 2);
+        assert!((r[0] - 0.2).abs() < 1e-11 && (r[1] - 0.7).abs() < 1e-11);
+        // Three: (θ − 0.1)(θ − 0.5)(θ − 0.9).
+        let p = |t: f64| (t - 0.1) * (t - 0.5) * (t - 0.9);
+        let dp = |t: f64| (t - 0.5) * (t - 0.9) + (t - 0.1) * (t - 0.9) + (t - 0.1) * (t - 0.5);
+        let r = found(ends(&p, &dp));
+        assert_eq!(r.len(), 3);
+        for (got, want) in r.iter().zip([0.1, 0.5, 0.9]) {
+            assert!((got - want).abs() < 1e-11, "{got} {want}");
+        }
+        // None: a parabola above zero.
+        assert!(found(ends(&|t| (t - 0.5) * (t - 0.5) + 0.01, &|t| 2.0 * (t - 0.5))).is_empty());
+    }
 
     #[test]
     fn hermite_root_finds_the_crossing_of_a_cubic() {

@@ -35,7 +35,7 @@
 //! benchmark at 10 kHz. A run that diverges counts as missing the
 //! tolerance, and the next s is at least twice as large and large enough
 //! that the fastest linearised mode has ωh ≤ 2.5 ([`STABLE_OMEGA_H`]),
-//! inside the method's stability region; but the first
+//! inside the method's stability region; but each
 //! divergence is run again at four times the steps, and if the state passes
 //! the bound at the same sample along the same path, the response itself is
 //! unbounded at these values and the choice ends there
@@ -177,8 +177,6 @@ fn choose_steps_keeping<'w>(
     let mut runs = 0;
     // The fewest steps checked that a search may take (s only grows).
     let mut search = None;
-    // Whether a divergence was checked for an unbounded response (once).
-    let mut checked = false;
     loop {
         runs += 2;
         let outcome = match checked_run(model, params, s, watch.as_deref_mut()) {
@@ -204,11 +202,13 @@ fn choose_steps_keeping<'w>(
             }
             Err(e) => Err(e),
         };
+        // Each divergence is checked for an unbounded response: near a
+        // blow-up the fewest steps may stray from the path that finer
+        // steps share (the Bouc–Wen law's kinks are located only where the
+        // trial step sees them), and the next pair then tells.
         if let Err(e @ SimulationError::Diverged { .. }) = &outcome {
-            if !std::mem::replace(&mut checked, true) {
-                if let Some(unbounded) = super::unbounded::unbounded(model, params, e) {
-                    return Err(unbounded);
-                }
+            if let Some(unbounded) = super::unbounded::unbounded(model, params, e) {
+                return Err(unbounded);
             }
         }
         let next = match &outcome {

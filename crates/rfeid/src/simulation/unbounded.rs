@@ -27,10 +27,11 @@
 //! Otherwise it stays `Diverged`. A stiff nonlinear spring (a power law of
 //! enormous coefficient, whose stiffness at rest is zero) blows up from the
 //! first step at both step lengths, but from rest and with states that
-//! differ by orders of magnitude: it stays `Diverged`. The check costs at
-//! most the two runs up to the divergence, and spares the step choice its
-//! runs at 16, 64, 256 and 1000 steps per sample, which a smaller tolerance
-//! would have asked for in vain.
+//! differ by orders of magnitude: it stays `Diverged`. The step choice
+//! checks each divergence (the fewest steps may stray near a blow-up, and
+//! the next pair then tells); a check costs at most the two runs up to the
+//! divergence, and spares the step choice its runs at up to 1000 steps per
+//! sample, which a smaller tolerance would have asked for in vain.
 use super::integrator::integrator;
 use super::run::{SampleView, Span};
 use super::simulator::Simulator;

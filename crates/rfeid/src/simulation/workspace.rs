@@ -1,5 +1,6 @@
 //! Scratch memory for runs ([`Workspace`]), and the buffers of the
 //! parameter groups integrated in parallel ([`GroupBuffers`], `columns`).
+use super::laws::bouc_wen::Branch;
 use super::response::Response;
 #[cfg(doc)]
 use super::sines::StageSines;
@@ -55,6 +56,16 @@ pub struct InternalStates {
     pub(crate) sy: Vec<f64>,
     pub(super) sy_stage: Vec<f64>,
     pub(super) ks: Vec<f64>,
+    /// Per component, the branches its law is evaluated
+    /// on within a piece of a split step (`stepper`), 0 for the state's own
+    /// sign: `[v0, v̇0, v1, v̇1, z0, ż0, z1, ż1]` per component (rates per
+    /// unit of the step) from the trial step, then the branches.
+    pub(super) ends: Vec<[f64; 8]>,
+    pub(super) branch: Vec<Branch>,
+    /// The located kinks of the step: (θ, component, whether of z).
+    pub(super) marks: Vec<(f64, usize, bool)>,
+    /// The branches of the piece before (for the jumps at its end).
+    pub(super) branch_before: Vec<Branch>,
 }
 
 impl Workspace {
@@ -87,6 +98,13 @@ impl Workspace {
         resize(&mut self.z.sy, nz * width);
         resize(&mut self.z.sy_stage, nz * width);
         resize(&mut self.z.ks, stages * nz * width);
+        self.z.ends.clear();
+        self.z.ends.resize(nz, [0.0; 8]);
+        self.z.branch.clear();
+        self.z.branch.resize(nz, Branch::NATURAL);
+        self.z.marks.clear();
+        self.z.branch_before.clear();
+        self.z.branch_before.resize(nz, Branch::NATURAL);
         resize(&mut self.scratch, scratch);
         resize(&mut self.forces, sys.minv_loads.len());
         resize(&mut self.power_forces, sys.scratch_len());

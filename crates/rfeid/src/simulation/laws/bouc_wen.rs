@@ -232,11 +232,33 @@ impl BoucWenLaw {
     /// for the rate, the slopes and the derivatives there.
     #[inline(always)]
     pub fn at(&self, v: f64, z: f64) -> BoucWenAt<'_> {
+        self.on_branch(v, z, Branch::NATURAL)
+    }
+
+    /// The law at v and z on the branches `b` ([`Branch`]): |v| taken as
+    /// `s_v v` and sign(v) as s_v, likewise z (for n = 1, whose |z| has the
+    /// kink). Within a piece of a step split at a kink, every stage is
+    /// evaluated on the piece's side, as the smooth law of that side
+    /// continued a little past it: a stage state that strays across the
+    /// kink by the step's error would otherwise change the slope by the
+    /// whole jump, and the sensitivities with it.
+    #[inline(always)]
+    pub fn on_branch(&self, v: f64, z: f64, b: Branch) -> BoucWenAt<'_> {
+        let sv = b.side(b.v, v, b.v_reach);
+        let s_z = b.side(b.z, z, b.z_reach);
+        let (sz, powers) = if s_z != sign(z) && self.n == 1.0 {
+            (s_z, (s_z * z, 1.0))
+        } else {
+            (sign(z), powers(z, self.n))
+        };
         BoucWenAt {
             law: self,
             v,
+            av: sv * v,
+            sv,
+            sz,
             z,
-            powers: powers(z, self.n),
+            powers,
         }
     }
 
@@ -247,11 +269,56 @@ impl BoucWenLaw {
     }
 }
 
+/// The sides of a Bouc–Wen law's kinks to evaluate it on: the signs taken
+/// for v and z (0: the value's own sign), each held while the value is on
+/// that side or strays past the kink by at most its reach. A stage farther
+/// across is on the other side indeed (a step whose trial was far off, as
+/// when the motion grows without bound) and takes its own sign.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Branch {
+    /// The sign taken for v.
+    pub v: f64,
+    /// The sign taken for z.
+    pub z: f64,
+    /// How far past v = 0 the sign holds.
+    pub v_reach: f64,
+    /// How far past z = 0 the sign holds.
+    pub z_reach: f64,
+}
+
+impl Branch {
+    /// Each value's own sign.
+    pub const NATURAL: Branch = Branch {
+        v: 0.0,
+        z: 0.0,
+        v_reach: 0.0,
+        z_reach: 0.0,
+    };
+
+    /// The sign to take for x: `s` while x is on its side or within
+    /// `reach` of 0, else x's own.
+    #[inline(always)]
+    fn side(&self, s: f64, x: f64, reach: f64) -> f64 {
+        let own = sign(x);
+        if s != 0.0 && own != s && x.abs() <= reach {
+            s
+        } else {
+            own
+        }
+    }
+}
+
 /// A Bouc–Wen law at one velocity and state ([`BoucWenLaw::at`]).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct BoucWenAt<'a> {
     law: &'a BoucWenLaw,
     v: f64,
+    /// |v| (on its branch).
+    av: f64,
+    /// sign(v) (on its branch).
+    sv: f64,
+    /// sign(z) (on its branch).
+    sz: f64,
     z: f64,
     /// `(|z|^n, |z|^(n−1))`.
     powers: (f64, f64),
@@ -261,8 +328,8 @@ impl BoucWenAt<'_> {
     /// `γ |v| |z|^(n−1) z + d v |z|^n`, the bracket of ż.
     #[inline(always)]
     fn bracket(&self) -> f64 {
-        let (law, v, z, p) = (self.law, self.v, self.z, self.powers.0);
-        law.gamma * v.abs() * p.copysign(z) + law.d * v * p
+        let (law, v, p) = (self.law, self.v, self.powers.0);
+        law.gamma * self.av * (self.sz * p) + law.d * v * p
     }
 
     /// ż.
@@ -274,10 +341,10 @@ impl BoucWenAt<'_> {
     /// `(∂ż/∂v, ∂ż/∂z)`.
     #[inline(always)]
     pub fn slopes(&self) -> (f64, f64) {
-        let (law, v, z) = (self.law, self.v, self.z);
+        let (law, v) = (self.law, self.v);
         let (p, q) = self.powers;
-        let dv = law.alpha - law.beta * (law.gamma * p.copysign(z) * sign(v) + law.d * p);
-        let dz = -law.beta * law.n * q * (law.gamma * v.abs() + law.d * v * sign(z));
+        let dv = law.alpha - law.beta * (law.gamma * (self.sz * p) * self.sv + law.d * p);
+        let dz = -law.beta * law.n * q * (law.gamma * self.av + law.d * v * self.sz);
         (dv, dz)
     }
 
@@ -288,7 +355,7 @@ impl BoucWenAt<'_> {
         match key {
             HysteresisKey::Alpha => v,
             HysteresisKey::Beta => -self.bracket(),
-            HysteresisKey::Gamma => -law.beta * v.abs() * p.copysign(z),
+            HysteresisKey::Gamma => -law.beta * self.av * (self.sz * p),
             HysteresisKey::D => -law.beta * v * p,
             HysteresisKey::N => -law.beta * self.bracket() * log_abs(z),
         }
