@@ -405,7 +405,8 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
             };
             let s_z = &mut ws.z.sy[j * w..(j + 1) * w];
             let v_dot = c.rate::<M>(&ws.k[n..2 * n]);
-            let jump = rate(before) - rate(between);
+            let (at_before, at_between, at_after) = (rate(before), rate(between), rate(after));
+            let jump = at_before - at_between;
             if before.v != after.v && jump != 0.0 && v_dot != 0.0 {
                 for (col, s) in s_z.iter_mut().enumerate() {
                     let mut g_s = 0.0;
@@ -415,7 +416,7 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
                     *s -= jump * g_s / v_dot;
                 }
             }
-            let (jump, z_dot) = (rate(between) - rate(after), ws.z.k[j]);
+            let (jump, z_dot) = (at_between - at_after, ws.z.k[j]);
             if before.z != after.z && jump != 0.0 && z_dot != 0.0 {
                 for s in s_z.iter_mut() {
                     *s -= jump * *s / z_dot;

@@ -244,8 +244,8 @@ impl BoucWenLaw {
     /// whole jump, and the sensitivities with it.
     #[inline(always)]
     pub fn on_branch(&self, v: f64, z: f64, b: Branch) -> BoucWenAt<'_> {
-        let sv = b.side(b.v, v, b.v_reach);
-        let s_z = b.side(b.z, z, b.z_reach);
+        let sv = Branch::side(b.v, v, b.v_reach);
+        let s_z = Branch::side(b.z, z, b.z_reach);
         let (sz, powers) = if s_z != sign(z) && self.n == 1.0 {
             (s_z, (s_z * z, 1.0))
         } else {
@@ -298,7 +298,7 @@ impl Branch {
     /// The sign to take for x: `s` while x is on its side or within
     /// `reach` of 0, else x's own.
     #[inline(always)]
-    fn side(&self, s: f64, x: f64, reach: f64) -> f64 {
+    fn side(s: f64, x: f64, reach: f64) -> f64 {
         let own = sign(x);
         if s != 0.0 && own != s && x.abs() <= reach {
             s

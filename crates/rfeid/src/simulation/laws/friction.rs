@@ -43,10 +43,9 @@ impl JointLaw for Friction {
         "friction F(v)·tanh(v/v<sub>s</sub>)".into()
     }
     fn keys(&self) -> Vec<LawKey> {
-        let key = |name, symbol, value, unit, usage| LawKey::new(name, symbol, value, unit, usage);
         let mut keys = Vec::new();
         if self.k != Value::Fixed(0.0) {
-            keys.push(key(
+            keys.push(LawKey::new(
                 "k",
                 "k",
                 self.k,
@@ -54,7 +53,7 @@ impl JointLaw for Friction {
                 KeyRole::Stiffness,
             ));
         }
-        keys.push(key(
+        keys.push(LawKey::new(
             "f",
             "f",
             self.f,
@@ -62,7 +61,7 @@ impl JointLaw for Friction {
             KeyRole::Friction(FrictionKey::Coulomb),
         ));
         if let Some(f_neg) = self.f_neg {
-            keys.push(key(
+            keys.push(LawKey::new(
                 "f_neg",
                 "f<sub>neg</sub>",
                 f_neg,
@@ -71,14 +70,14 @@ impl JointLaw for Friction {
             ));
         }
         if let Some((fs, vs)) = self.stribeck {
-            keys.push(key(
+            keys.push(LawKey::new(
                 "fs",
                 "f<sub>s</sub>",
                 fs,
                 KeyUnit::Force,
                 KeyRole::Friction(FrictionKey::Static),
             ));
-            keys.push(key(
+            keys.push(LawKey::new(
                 "vs",
                 "v<sub>s</sub>'",
                 vs,
@@ -86,7 +85,7 @@ impl JointLaw for Friction {
                 KeyRole::Friction(FrictionKey::StribeckVelocity),
             ));
         }
-        keys.push(key(
+        keys.push(LawKey::new(
             "smoothing",
             "v<sub>s</sub>",
             self.smoothing,
