@@ -18,6 +18,7 @@ mod blocked_jacobian;
 mod bouc_wen;
 mod campaign_model_file;
 mod constant_signal;
+mod contact;
 mod design;
 mod energy_free_vibration;
 mod excitation_breakpoints;

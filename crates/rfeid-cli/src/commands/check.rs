@@ -7,6 +7,7 @@ use crate::run::failures::simulation_failure;
 use crate::run::inputs::load;
 use crate::ui::Ui;
 use rfeid::model::{Attachment, Law, Model, Value, COMPONENT_NAMES};
+use rfeid::simulation::equilibrium::contacts_at_rest;
 use rfeid::simulation::{free::free_directions, steps::integrator, Simulator};
 
 /// Runs the command.
@@ -30,6 +31,13 @@ pub fn run(args: CheckArgs, ui: &Ui) -> Result<(), Failure> {
             println!("  {f} (no restoring force)");
         }
     }
+    let contacts = contacts_text(&model)?;
+    if !contacts.is_empty() {
+        println!("\nContacts at rest (the static equilibrium at the nominal values)");
+        for c in &contacts {
+            println!("  {c}");
+        }
+    }
     if !model.experiments.is_empty() {
         println!("\ndata: every experiment's file read and matched to its sensors and sampling");
     }
@@ -51,6 +59,38 @@ fn free_text(model: &Model, path: &std::path::Path) -> Result<Vec<String>, Failu
             .map_err(|e| Failure::input_msg(format!("{}: {e}", path.display())))?;
     }
     Ok(free.descriptions(model))
+}
+
+/// Each contact at the static equilibrium at the nominal values, in words
+/// (`slideway uz: closed by 4.00e-6 m, carrying 16.0 N`).
+fn contacts_text(model: &Model) -> Result<Vec<String>, Failure> {
+    let sim = Simulator::with_integrator(model, integrator(1));
+    let at_rest = |what| move |e| simulation_failure(what, e);
+    let sys = (sim.system(&model.nominal())).map_err(at_rest("the model at its nominal values"))?;
+    let contacts = contacts_at_rest(&sys).map_err(at_rest("the static equilibrium"))?;
+    let comps = &sim.structure().components;
+    Ok(contacts
+        .iter()
+        .map(|c| {
+            let comp = &comps[c.component];
+            let name = format!(
+                "{} {}",
+                model.elements[comp.element].name, COMPONENT_NAMES[comp.dof]
+            );
+            let (length, force) = match comp.dof < 3 {
+                true => ("m", "N"),
+                false => ("rad", "N*m"),
+            };
+            match c.closure {
+                s if s > 0.0 => format!(
+                    "{name}: closed by {s:.3e} {length}, carrying {:.4e} {force}",
+                    c.force
+                ),
+                0.0 => format!("{name}: touching (closes under the first push)"),
+                s => format!("{name}: open by {:.3e} {length}", -s),
+            }
+        })
+        .collect())
 }
 
 /// The model's summary for `--json`.
@@ -156,6 +196,7 @@ fn bodies_table(model: &Model) -> String {
 /// The elements: what they join and their components' laws.
 fn elements_table(model: &Model) -> String {
     let value = |v: &Value| value_text(model, v);
+    let laws = rfeid::simulation::laws::readers::<()>();
     let rows: Vec<Vec<String>> = model
         .elements
         .iter()
@@ -169,6 +210,7 @@ fn elements_table(model: &Model) -> String {
                 .iter()
                 .map(|c| {
                     let law = c.law.joint();
+                    let name = law.name();
                     let keys = law
                         .keys()
                         .into_iter()
@@ -179,7 +221,13 @@ fn elements_table(model: &Model) -> String {
                             .chain(keys)
                             .collect(),
                     };
-                    format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
+                    // A law that takes c itself (a contact) shows it among its keys.
+                    match laws.iter().any(|r| r.name == name && r.keys.contains(&"c")) {
+                        true => format!("{}[{law}]", COMPONENT_NAMES[c.dof]),
+                        false => {
+                            format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))
+                        }
+                    }
                 })
                 .collect::<Vec<_>>()
                 .join(" ");

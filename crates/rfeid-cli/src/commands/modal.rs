@@ -63,7 +63,7 @@ fn print_modes(modal: &ModalAnalysis) {
     println!(
         "Modes of the model linearised {}",
         if modal.at_equilibrium {
-            "at its static equilibrium under gravity"
+            "at its static equilibrium (under gravity, or of its contacts)"
         } else {
             "at rest"
         }

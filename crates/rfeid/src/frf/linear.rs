@@ -16,6 +16,7 @@
 //! power law's slope feels through its curvature.
 use crate::model::{Law, Model};
 use crate::simulation::equilibrium::static_equilibrium;
+use crate::simulation::laws::contact::ContactForce;
 use crate::simulation::structure::{HysteresisKey, Row, Usage};
 use crate::simulation::system::{add_outer, System};
 use crate::simulation::{SimulationError, Simulator};
@@ -71,15 +72,16 @@ pub fn linearise(
     let sim = Simulator::with_integrator(model, crate::simulation::steps::integrator(1));
     let sys = sim.system(params)?;
     let n = sys.n;
-    let (q0, dq0) = match model.gravity {
-        Some(_) => {
+    let (q0, dq0) = match model.starts_at_equilibrium() {
+        true => {
             let eq = static_equilibrium(&sys, wrt)?;
             (eq.q, eq.dq)
         }
-        None => (vec![0.0; n], vec![0.0; n * wrt.len()]),
+        false => (vec![0.0; n], vec![0.0; n * wrt.len()]),
     };
+    // The closed contacts at q0 are in both.
     let mut stiffness = sys.tangent_stiffness(&q0);
-    let mut damping = sys.damping_matrix();
+    let mut damping = sys.damping_matrix(&q0);
     for comp in &sim.structure().components {
         let (k, c) = comp.law.joint().small_motion(params);
         add_outer(&mut stiffness, n, &comp.row, k);
@@ -99,7 +101,7 @@ pub fn linearise(
         stiffness,
         damping,
         loads: sim.structure().loads.clone(),
-        at_equilibrium: model.gravity.is_some(),
+        at_equilibrium: model.starts_at_equilibrium(),
         derivatives,
         zero_slope: zero_slope(&sys, &q0),
     })
@@ -157,6 +159,15 @@ fn terms(sys: &System<'_>, p: usize, q0: &[f64], dq0: &[f64]) -> Vec<Term> {
                 };
                 out.push(outer(i, 0.0, fr.rest_slope_derivative(params, key)));
             }
+            Usage::Contact(i, key) => {
+                let Law::Contact(ct) = &comps[i].law else {
+                    continue;
+                };
+                let law = ContactForce::new(ct, params);
+                let at = law.at(comps[i].row.dot(q0), 0.0);
+                let (k, c) = law.small_motion_derivative(&at, key);
+                out.push(outer(i, k, c));
+            }
             Usage::Hysteresis(i, HysteresisKey::Alpha) => out.push(outer(i, 1.0, 0.0)),
             Usage::Mass(b) => out.extend((0..3).map(|a| Term::Mass(6 * b + a))),
             Usage::Inertia(b, axis) => out.push(Term::Mass(6 * b + 3 + axis)),
@@ -166,10 +177,17 @@ fn terms(sys: &System<'_>, p: usize, q0: &[f64], dq0: &[f64]) -> Vec<Term> {
     if dq0.iter().any(|v| *v != 0.0) {
         // The static deformations move with p: each power law's slope with them.
         for (i, comp) in comps.iter().enumerate() {
-            let Some(s) = comp.law.power_spring(params) else {
-                continue;
+            let curvature = match &comp.law {
+                Law::Contact(ct) => {
+                    let law = ContactForce::new(ct, params);
+                    law.curvature(&law.at(comp.row.dot(q0), 0.0))
+                }
+                law => match law.power_spring(params) {
+                    Some(s) => power_curvature(s.coef, s.m, comp.row.dot(q0)),
+                    None => continue,
+                },
             };
-            let k = power_curvature(s.coef, s.m, comp.row.dot(q0)) * comp.row.dot(dq0);
+            let k = curvature * comp.row.dot(dq0);
             if k != 0.0 {
                 out.push(outer(i, k, 0.0));
             }

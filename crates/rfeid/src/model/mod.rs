@@ -344,6 +344,16 @@ impl Model {
         6 * self.bodies.len()
     }
 
+    /// Whether a run starts from a static equilibrium rather than from
+    /// q = 0: under gravity, and with a contact, whose gap or preload may
+    /// hold a force at q = 0 that the other springs balance (SPEC §1).
+    pub fn starts_at_equilibrium(&self) -> bool {
+        self.gravity.is_some()
+            || (self.elements.iter())
+                .flat_map(|e| &e.components)
+                .any(|c| matches!(c.law, Law::Contact(_)))
+    }
+
     /// Nominal values of all parameters.
     pub fn nominal(&self) -> Vec<f64> {
         self.parameters.iter().map(|p| p.value).collect()

@@ -100,10 +100,14 @@ fn residual(sys: &System<'_>, q: &[f64], weights: &[f64]) -> (DVector<f64>, DVec
         r[i] = -kq / sys.minv[i] - weight;
         size[i] = abs / sys.minv[i] + weight.abs();
     }
-    for pr in &sys.power {
-        let (f, _) = power_law(pr.a, pr.m, pr.row.dot(q));
-        pr.row.axpy(f, r.as_mut_slice());
-        for (off, c) in &pr.row.blocks {
+    let powers = sys
+        .power
+        .iter()
+        .map(|pr| (&pr.row, power_law(pr.a, pr.m, pr.row.dot(q)).0));
+    let contacts = sys.contacts_at(q).map(|(row, at)| (row, at.force));
+    for (row, f) in powers.chain(contacts) {
+        row.axpy(f, r.as_mut_slice());
+        for (off, c) in &row.blocks {
             for (s, c) in size.as_mut_slice()[*off..*off + 6].iter_mut().zip(c) {
                 *s += (c * f).abs();
             }
@@ -138,6 +142,11 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
     free.remove_force(&mut weights);
     let ordering = (n > DENSE_UP_TO).then(|| {
         let mut rows: Vec<Vec<usize>> = sys.power.iter().map(|p| p.row.coordinates()).collect();
+        let contacts = sys
+            .contacts
+            .iter()
+            .map(|c| &sys.structure.components[c.comp].row);
+        rows.extend(contacts.map(|row| row.coordinates()));
         rows.extend(free.supports());
         Ordering::new(n, &sys.tangent_stiffness(&vec![0.0; n]), &rows)
     });
@@ -192,6 +201,37 @@ pub fn static_equilibrium(sys: &System<'_>, wrt: &[usize]) -> Result<Equilibrium
 
     let dq = sensitivities(sys, &free, ordering.as_ref(), &q, wrt)?;
     Ok(Equilibrium { q, dq, iterations })
+}
+
+/// A contact at the static equilibrium (`rfeid check`): its component row,
+/// its closure `δ − gap` there and its force (0 when open).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactAtRest {
+    /// The component's index in [`super::structure::Structure::components`].
+    pub component: usize,
+    /// `δ − gap` at the equilibrium: positive closed, else open.
+    pub closure: f64,
+    /// Its force there.
+    pub force: f64,
+}
+
+/// Each contact of `sys` at its static equilibrium (at q = 0 for a model
+/// that starts there, [`crate::model::Model::starts_at_equilibrium`]).
+pub fn contacts_at_rest(sys: &System<'_>) -> Result<Vec<ContactAtRest>, SimulationError> {
+    if sys.contacts.is_empty() {
+        return Ok(Vec::new());
+    }
+    let q = static_equilibrium(sys, &[])?.q;
+    Ok(sys
+        .contacts
+        .iter()
+        .zip(sys.contacts_at(&q))
+        .map(|(c, (row, at))| ContactAtRest {
+            component: c.comp,
+            closure: c.law.closure(row.dot(&q)),
+            force: at.force,
+        })
+        .collect())
 }
 
 /// `∂q/∂x_j` for the parameters `wrt` at the equilibrium `q`, n × r
@@ -273,6 +313,13 @@ fn explicit(sys: &System<'_>, usage: Usage, q: &[f64], rhs: &mut DMatrix<f64>, c
                 _ => p.coef * f * (d.abs().ln() - p.ln_ref),
             };
             add(&comps[i].row, force);
+        }
+        Usage::Contact(i, key) => {
+            let Some(row) = sys.contacts.iter().find(|c| c.comp == i) else {
+                return;
+            };
+            let at = row.law.at(comps[i].row.dot(q), 0.0);
+            add(&comps[i].row, row.law.derivative(&at, key));
         }
         Usage::Mass(b) => {
             for i in 0..3 {

@@ -1,10 +1,11 @@
 //! The components whose law the kernels evaluate beside their linear part
-//! (friction, Bouc–Wen), each as a [`LawRow`]: the component's index and
+//! (friction, Bouc–Wen, contact), each as a [`LawRow`]: the component's index and
 //! its law with numbers in. Their forces enter the accelerations as
 //! `f (−M⁻¹B_iᵀ)` after either kernel; a Bouc–Wen law's state z also has
 //! its rate and the sensitivities' terms (eq. 27–28 extended by the rows of
 //! ∂z/∂x).
 use super::laws::bouc_wen::{BoucWenLaw, Branch};
+use super::laws::contact::ContactForce;
 use super::laws::friction::FrictionForce;
 use super::laws::Law;
 use super::madd::Madd;
@@ -28,6 +29,9 @@ pub(crate) type FrictionRow = LawRow<FrictionForce>;
 
 /// A Bouc–Wen component.
 pub(crate) type HysteresisRow = LawRow<BoucWenLaw>;
+
+/// A contact component.
+pub(crate) type ContactRow = LawRow<ContactForce>;
 
 /// The components of `components` (in order) whose law `pick` takes, with
 /// that law at the run's parameter values (`pick` is given the element's
@@ -70,6 +74,18 @@ pub(crate) fn hysteresis_rows(
     })
 }
 
+/// The contact components with their laws at the parameter values `p`.
+pub(crate) fn contact_rows(
+    model: &Model,
+    components: &[ComponentRow],
+    p: &[f64],
+) -> Result<Vec<ContactRow>, SimulationError> {
+    law_rows(model, components, |law, _| match law {
+        Law::Contact(c) => Some(Ok(ContactForce::new(c, p))),
+        _ => None,
+    })
+}
+
 /// Adds `f (−M⁻¹B_iᵀ)` of component `c` to the accelerations `acc`.
 #[inline(always)]
 fn add_force<M: Madd>(c: &SparseComp, f: f64, acc: &mut [f64]) {
@@ -96,6 +112,26 @@ pub(crate) fn friction_accel<M: Madd>(
     for fr in frictions {
         let c = &comps[fr.comp];
         add_force::<M>(c, fr.law.force(c.rate::<M>(v)), acc);
+    }
+}
+
+/// Adds each contact component's force (its change from the static one)
+/// times `−M⁻¹B_iᵀ` to the accelerations `acc`, for the state `y = [q; q̇]`,
+/// each on its side in `sides` (empty: every one on its own,
+/// [`ContactForce::at_side`]).
+#[inline(always)]
+pub(crate) fn contact_accel<M: Madd>(
+    comps: &[SparseComp],
+    contacts: &[ContactRow],
+    (q, v): (&[f64], &[f64]),
+    sides: &[f64],
+    acc: &mut [f64],
+) {
+    for (j, row) in contacts.iter().enumerate() {
+        let c = &comps[row.comp];
+        let side = sides.get(j).copied().unwrap_or(0.0);
+        let f = row.law.force_change(c.rate::<M>(q), c.rate::<M>(v), side);
+        add_force::<M>(c, f, acc);
     }
 }
 

@@ -5,6 +5,8 @@ mod aligned;
 mod blocks;
 mod calibration;
 mod columns;
+mod contact_events;
+mod crossings;
 mod dim;
 mod envelope;
 pub mod equilibrium;
@@ -33,6 +35,7 @@ mod stepper;
 pub mod steps;
 pub mod structure;
 pub mod system;
+mod system_matrices;
 pub mod tableau;
 mod tangent;
 #[cfg(test)]

@@ -65,12 +65,12 @@ pub fn modal_analysis(
     let model = sim.model();
     let sys = &sim.system(params)?;
     let n = sys.n;
-    let q = if model.gravity.is_some() {
+    let q = if model.starts_at_equilibrium() {
         static_equilibrium(sys, &[])?.q
     } else {
         vec![0.0; n]
     };
-    let c = DMatrix::from_row_slice(n, n, &sys.damping_matrix());
+    let c = DMatrix::from_row_slice(n, n, &sys.damping_matrix(&q));
     let linv: Vec<f64> = sys.minv.iter().map(|m| m.sqrt()).collect();
     let eig = SymmetricEigen::new(mass_scaled_tangent(sys, &q));
     let lam_max = eig.eigenvalues.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
@@ -99,7 +99,7 @@ pub fn modal_analysis(
     }));
     Ok(ModalAnalysis {
         modes,
-        at_equilibrium: model.gravity.is_some(),
+        at_equilibrium: model.starts_at_equilibrium(),
         zero_slope_components: zero_slope_components(sim, sys, &q),
         free_directions: free.descriptions(model),
     })
@@ -115,9 +115,9 @@ pub fn rest_frequencies(
     params: &[f64],
 ) -> Result<(Vec<f64>, usize), SimulationError> {
     let sys = &sim.system(params)?;
-    let q = match sim.model().gravity {
-        Some(_) => static_equilibrium(sys, &[])?.q,
-        None => vec![0.0; sys.n],
+    let q = match sim.model().starts_at_equilibrium() {
+        true => static_equilibrium(sys, &[])?.q,
+        false => vec![0.0; sys.n],
     };
     let lam = mass_scaled_tangent(sys, &q).symmetric_eigenvalues();
     let lam_max = lam.iter().fold(0.0_f64, |m, v| m.max(v.abs()));

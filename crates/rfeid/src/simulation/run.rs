@@ -168,7 +168,7 @@ impl<'m> Simulator<'m> {
         // Under gravity, the run starts at rest in the static equilibrium
         // and integrates the deviation from it (`preload`): the state and
         // the sensitivities start at zero.
-        if self.model.gravity.is_some() {
+        if self.model.starts_at_equilibrium() {
             match span.equilibrium.as_deref().filter(|_| wrt.is_empty()) {
                 Some(q) => sys.set_reference(q, Vec::new()),
                 None => {

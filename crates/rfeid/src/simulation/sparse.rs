@@ -36,6 +36,9 @@ pub(crate) struct SparseComp {
     /// The index of its friction law in the system's friction list, if it
     /// has one.
     pub friction: Option<u32>,
+    /// The index of its contact law in the system's contact list, if it
+    /// has one.
+    pub contact: Option<u32>,
 }
 
 impl SparseComp {
@@ -110,6 +113,7 @@ pub(crate) fn sparse_components(
                 c,
                 power,
                 friction: None,
+                contact: None,
             }
         })
         .collect();

@@ -11,6 +11,7 @@
 //! order whatever the number of columns, so a column's values do not depend
 //! on which other columns are computed with it.
 use super::force_derivative::force_derivative;
+use super::laws::contact::ContactState;
 use super::laws::friction::FrictionAt;
 use super::laws::power_law;
 use super::madd::Madd;
@@ -68,7 +69,8 @@ impl Entries {
 }
 
 /// `dacc = Σ_i g_i (slope_i B_i Y_q + c_i B_i Y_v + ∂f_i/∂x)` (n rows of
-/// `width`, a multiple of four) at the state `(q, v)`, for the
+/// `width`, a multiple of four) at the state `(q, v)` with each contact on
+/// its side in `contact_sides` ([`System::accel_with`]), for the
 /// sensitivities `sy` (2n rows of `width`); `usages[i]` lists the
 /// parameters (column, usage) acting on component i, and `entries[i]` its
 /// nonzero entries for rows `width` long. About a static equilibrium
@@ -78,7 +80,7 @@ impl Entries {
 pub(crate) fn sparse_tangent<M: Madd>(
     sys: &System<'_>,
     (usages, statics, entries): (&[ComponentUsages], &[Vec<f64>], &[Entries]),
-    (q, v): (&[f64], &[f64]),
+    (q, v, contact_sides): (&[f64], &[f64], &[f64]),
     sy: &[f64],
     width: usize,
     dacc: &mut [f64],
@@ -101,13 +103,28 @@ pub(crate) fn sparse_tangent<M: Madd>(
             }
             None => (comp.k, 0.0),
         };
-        // A friction law's slope in δ̇ adds to the damping.
+        // A friction law's slope in δ̇ adds to the damping, a contact's
+        // slopes to both.
         let law = comp.friction.map(|j| &sys.frictions[j as usize].law);
         let friction = FrictionAt::of(law, || comp.rate::<M>(v));
-        let damp = comp.c + friction.slope();
+        let (law, side) = match comp.contact {
+            Some(j) => (
+                Some(&sys.contacts[j as usize].law),
+                contact_sides.get(j as usize).copied().unwrap_or(0.0),
+            ),
+            None => (None, 0.0),
+        };
+        let contact = ContactState::of(law, (d, side), || comp.rate::<M>(v));
+        let damp = comp.c + friction.slope() + contact.at.damping;
+        let slope = slope + contact.at.slope;
+        let change = match statics.is_empty() {
+            true => change,
+            false => change + contact.slope_change(),
+        };
         let explicit = Explicit {
             power,
             friction,
+            contact,
             usages,
             d,
             v,
@@ -135,6 +152,9 @@ struct Explicit<'a> {
     /// The component's friction law at its δ̇ ([`FrictionAt::NONE`]
     /// without one).
     friction: FrictionAt<'a>,
+    /// The component's contact law at its state ([`ContactState::NONE`]
+    /// without one).
+    contact: ContactState,
     /// (column, usage) of the parameters acting on the component.
     usages: &'a [(usize, Usage)],
     /// Its deformation (from the static one, if any).
@@ -172,7 +192,7 @@ fn component_columns<M: Madd, const W: usize>(
                 Some(p) => (Some(p.spring), p.pre),
                 None => (None, Preload::default()),
             };
-            let laws = (spring, &e.friction);
+            let laws = (spring, &e.friction, &e.contact);
             s[col - c0] += force_derivative(usage, laws, &pre, d, || comp.rate::<M>(v));
         }
     }

@@ -18,6 +18,9 @@
 //! depends on the parameters; its derivative is left out, which changes the
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
+use super::contact_events::{contact_jumps, find_contact_crossings, TrialStep};
+use super::contact_events::{set_contact_sides, start_contact_sides};
+use super::crossings::{cubic_roots, hermite, hermite_root, push_inside, MERGE};
 use super::dim::Dim;
 use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
 use super::laws::bouc_wen::Branch;
@@ -28,13 +31,6 @@ use super::tableau::Tableau;
 use super::tangent::Tangent;
 use super::workspace::{InternalStates, Workspace};
 use std::marker::PhantomData;
-
-/// Crossings closer together than this fraction of a step are one split.
-/// Every crossing is split off, however near a step's end: skipping those
-/// near the ends would make the computed response jump when a crossing moves
-/// past the threshold, and the criterion would no longer be smooth in the
-/// parameters. (A split at θ → 0 or 1 tends continuously to no split.)
-const MERGE: f64 = 1e-12;
 
 /// What a step needs: the equations, the method, the sensitivity columns.
 pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
@@ -151,6 +147,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     pub fn step(&self, ws: &mut Workspace, t: f64, h: f64, with_sens: bool) {
         let mut split = false;
         let (mut from, mut piece) = (0.0, 0);
+        if !self.sys.contacts.is_empty() && start_contact_sides::<M>(self.sys, ws) {
+            self.first_stage(ws, t, with_sens);
+        }
         loop {
             let last = !split || piece == ws.crossings.len();
             let to = if last { 1.0 } else { ws.crossings[piece] };
@@ -163,11 +162,13 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 let z = &mut ws.z;
                 z.branch_before.copy_from_slice(&z.branch);
                 set_branches(z, (from, to));
+                set_contact_sides(ws, (from, to));
             }
             if split && piece > 0 {
                 self.first_stage(ws, ti, false);
                 if with_sens {
                     self.event_jumps(ws);
+                    contact_jumps::<M>(self.sys, &self.tangent, ws, from);
                     self.first_sens_stage(ws, ti);
                 }
             }
@@ -205,8 +206,8 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let ys = &ws.y_stage[i * n2..(i + 1) * n2];
         let ki = &mut ws.k[i * n2..(i + 1) * n2];
         ki[..n].copy_from_slice(&ys[n..]);
-        self.sys
-            .accel_with::<M, D>(&ws.forces, ys, &mut ws.power_forces, &mut ki[n..]);
+        let sides = &ws.contact_sides;
+        (self.sys).accel_with::<M, D>(&ws.forces, ys, &mut ws.power_forces, sides, &mut ki[n..]);
         let nz = ws.z.y.len();
         if nz > 0 {
             // The Bouc–Wen forces z and the rates ż (`hysteresis`).
@@ -240,7 +241,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         self.tangent.apply::<M, D>(
             self.sys,
             (t, self.before(i)),
-            ys,
+            (ys, &ws.contact_sides),
             acc,
             &ws.sy_stage,
             dv,
@@ -313,7 +314,8 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     }
 
     /// Fractions θ ∈ (0, 1) of the step at which a power-law
-    /// deformation changes sign, sorted, into `ws.crossings`.
+    /// deformation, or a contact's closure, changes sign, sorted, into
+    /// `ws.crossings`.
     fn find_crossings(&self, ws: &mut Workspace, h: f64) -> bool {
         let n = D::n(self.sys.n);
         ws.crossings.clear();
@@ -327,6 +329,19 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             let v0 = h * pr.row.dot(&ws.y[n..]);
             let v1 = h * pr.row.dot(&ws.y_new[n..]);
             push_inside(&mut ws.crossings, hermite_root(d0, v0, d1, v1));
+        }
+        if !self.sys.contacts.is_empty() {
+            let n2 = 2 * n;
+            let end = self.end_stage.unwrap_or(0);
+            let mut crossings = std::mem::take(&mut ws.crossings);
+            let k = std::mem::take(&mut ws.k);
+            let step = TrialStep {
+                h,
+                acc0: &k[n..n2],
+                acc1: &k[end * n2 + n..(end + 1) * n2],
+            };
+            find_contact_crossings::<M>(self.sys, ws, &step, &mut crossings);
+            (ws.crossings, ws.k) = (crossings, k);
         }
         self.find_hysteresis_crossings(ws, h);
         ws.crossings.sort_by(f64::total_cmp);
@@ -449,94 +464,6 @@ fn set_branches(z: &mut InternalStates, (from, to): (f64, f64)) {
             }
         }
     }
-}
-
-/// The cubic Hermite interpolant with values x0, x1 and slopes (per unit θ)
-/// s0, s1 at θ.
-fn hermite(x0: f64, s0: f64, x1: f64, s1: f64, t: f64) -> f64 {
-    let c3 = 2.0 * (x0 - x1) + s0 + s1;
-    let c2 = 3.0 * (x1 - x0) - 2.0 * s0 - s1;
-    x0 + t * (s0 + t * (c2 + t * c3))
-}
-
-/// Pushes every θ in (0, 1) where the cubic Hermite interpolant with values
-/// x0, x1 and slopes (per unit θ) s0, s1 changes sign: the interval is cut
-/// at the cubic's turning points, and each monotone piece that changes
-/// sign holds one root, found by bisection.
-fn cubic_roots(x0: f64, s0: f64, x1: f64, s1: f64, crossings: &mut Vec<f64>) {
-    // p(θ) = x0 + s0 θ + c2 θ² + c3 θ³.
-    let c3 = 2.0 * (x0 - x1) + s0 + s1;
-    let c2 = 3.0 * (x1 - x0) - 2.0 * s0 - s1;
-    let p = |t: f64| hermite(x0, s0, x1, s1, t);
-    // Turning points: roots of s0 + 2 c2 θ + 3 c3 θ².
-    let (a, b, c) = (3.0 * c3, 2.0 * c2, s0);
-    let mut cuts = [0.0, 1.0, 1.0, 1.0];
-    let mut k = 1;
-    if a != 0.0 {
-        let disc = b * b - 4.0 * a * c;
-        if disc > 0.0 {
-            let r = disc.sqrt();
-            let q = -0.5 * (b + b.signum() * r);
-            for t in [q / a, if q != 0.0 { c / q } else { f64::NAN }] {
-                if t > 0.0 && t < 1.0 {
-                    cuts[k] = t;
-                    k += 1;
-                }
-            }
-        }
-    } else if b != 0.0 {
-        let t = -c / b;
-        if t > 0.0 && t < 1.0 {
-            cuts[k] = t;
-            k += 1;
-        }
-    }
-    cuts[1..=k].sort_by(f64::total_cmp);
-    for w in cuts[..=k].windows(2) {
-        let (lo, hi) = (w[0], w[1]);
-        let (plo, phi) = (p(lo), p(hi));
-        if plo * phi < 0.0 {
-            let t = bracketed_root(|s| p(lo + s * (hi - lo)), plo < 0.0);
-            push_inside(crossings, lo + t * (hi - lo));
-        }
-    }
-}
-
-/// Pushes θ if it is inside the step (0 < θ < 1).
-fn push_inside(crossings: &mut Vec<f64>, theta: f64) {
-    if theta > 0.0 && theta < 1.0 {
-        crossings.push(theta);
-    }
-}
-
-/// The root in (0, 1) of the cubic Hermite interpolant with values d0, d1
-/// and derivatives (per unit θ) v0, v1, where d0 and d1 differ in sign.
-fn hermite_root(d0: f64, v0: f64, d1: f64, v1: f64) -> f64 {
-    let p = |s: f64| {
-        let s2 = s * s;
-        let s3 = s2 * s;
-        (2.0 * s3 - 3.0 * s2 + 1.0) * d0
-            + (s3 - 2.0 * s2 + s) * v0
-            + (-2.0 * s3 + 3.0 * s2) * d1
-            + (s3 - s2) * v1
-    };
-    bracketed_root(p, d0 < 0.0)
-}
-
-/// A root in (0, 1) of `p`, which changes sign there (`neg_at_lo`: p(0) <
-/// 0), by bisection: an interpolant may have several roots, and any one
-/// inside is as good (the sign change is what matters).
-fn bracketed_root(p: impl Fn(f64) -> f64, neg_at_lo: bool) -> f64 {
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..40 {
-        let mid = 0.5 * (lo + hi);
-        if (p(mid) < 0.0) == neg_at_lo {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
 }
 
 /// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, thirty-two (then
@@ -692,49 +619,4 @@ unsafe fn stage_sum<M: Madd, const W: usize>(
         }
     }
     s
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{cubic_roots, hermite_root};
-
-    #[test]
-    fn cubic_roots_finds_every_crossing_inside_the_step() {
-        // Values and slopes at 0 and 1 of a cubic p.
-        let ends =
-            |p: &dyn Fn(f64) -> f64, dp: &dyn Fn(f64) -> f64| (p(0.0), dp(0.0), p(1.0), dp(1.0));
-        let found = |(x0, s0, x1, s1): (f64, f64, f64, f64)| {
-            let mut out = Vec::new();
-            cubic_roots(x0, s0, x1, s1, &mut out);
-            out.sort_by(f64::total_cmp);
-            out
-        };
-        // One root: (θ − 0.4)(θ + 2).
-        let r = found(ends(&|t| (t - 0.4) * (t + 2.0), &|t| 2.0 * t + 1.6));
-        assert_eq!(r.len(), 1);
-        assert!((r[0] - 0.4).abs() < 1e-11);
-        // A reversal and its return: (θ − 0.2)(θ − 0.7), the same sign at
-        // both ends.
-        let r = found(ends(&|t| (t - 0.2) * (t - 0.7), &|t| 2.0 * t - 0.9));
-        assert_eq!(r.len(), 2);
-        assert!((r[0] - 0.2).abs() < 1e-11 && (r[1] - 0.7).abs() < 1e-11);
-        // Three: (θ − 0.1)(θ − 0.5)(θ − 0.9).
-        let p = |t: f64| (t - 0.1) * (t - 0.5) * (t - 0.9);
-        let dp = |t: f64| (t - 0.5) * (t - 0.9) + (t - 0.1) * (t - 0.9) + (t - 0.1) * (t - 0.5);
-        let r = found(ends(&p, &dp));
-        assert_eq!(r.len(), 3);
-        for (got, want) in r.iter().zip([0.1, 0.5, 0.9]) {
-            assert!((got - want).abs() < 1e-11, "{got} {want}");
-        }
-        // None: a parabola above zero.
-        assert!(found(ends(&|t| (t - 0.5) * (t - 0.5) + 0.01, &|t| 2.0 * (t - 0.5))).is_empty());
-    }
-
-    #[test]
-    fn hermite_root_finds_the_crossing_of_a_cubic() {
-        // δ(θ) = (θ − 0.3)(1 + θ): values and derivatives at the ends.
-        let (d0, v0) = (-0.3, 1.0 - 0.3);
-        let (d1, v1) = (0.7 * 2.0, 2.0 * 1.0 + 1.0 - 0.3);
-        assert!((hermite_root(d0, v0, d1, v1) - 0.3).abs() < 1e-11);
-    }
 }

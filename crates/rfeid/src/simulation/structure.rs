@@ -3,8 +3,8 @@
 //!
 //! Every row couples at most two bodies, so rows are stored as at most two
 //! 6-blocks. Body b owns coordinates `6b .. 6b + 6`.
-use super::laws::KeyRole;
 pub use super::laws::{bouc_wen::HysteresisKey, friction::FrictionKey};
+use super::laws::{ContactKey, KeyRole};
 use crate::model::geometry::{attachment, block_diag, point_direction_row};
 use crate::model::{Attachment, Law, Model, SensorKind, Value};
 use nalgebra::{Matrix3, Vector3};
@@ -102,6 +102,8 @@ pub enum Usage {
     Friction(usize, FrictionKey),
     /// A key of Bouc–Wen component row i (its `k` is a [`Usage::Stiffness`]).
     Hysteresis(usize, HysteresisKey),
+    /// A key of contact component row i.
+    Contact(usize, ContactKey),
     /// Mass of body b.
     Mass(usize),
     /// Principal moment of inertia `axis` of body b.
@@ -120,6 +122,7 @@ impl Usage {
             KeyRole::PowerExponent => Usage::PowerExponent(i),
             KeyRole::Friction(key) => Usage::Friction(i, key),
             KeyRole::Hysteresis(key) => Usage::Hysteresis(i, key),
+            KeyRole::Contact(key) => Usage::Contact(i, key),
         }
     }
 }

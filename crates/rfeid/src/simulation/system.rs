@@ -10,6 +10,7 @@
 //! (`System::set_reference`, `preload`).
 use super::aligned::Aligned;
 use super::dim::{Dim, Dynamic};
+use super::law_rows::{contact_accel, contact_rows, ContactRow};
 use super::law_rows::{friction_accel, friction_rows, hysteresis_rows, FrictionRow, HysteresisRow};
 pub use super::laws::power_law;
 use super::madd::{Madd, Separate};
@@ -128,6 +129,10 @@ pub struct System<'a> {
     /// The Bouc–Wen components, in component order, each with an internal
     /// state z that the stepper integrates beside `[q; q̇]` (`hysteresis`).
     pub(crate) hysteresis: Vec<HysteresisRow>,
+    /// The contact components, in component order: their forces are added
+    /// after either kernel ([`contact_accel`]), as changes from the static
+    /// ones about an equilibrium.
+    pub(crate) contacts: Vec<ContactRow>,
 }
 
 impl<'a> System<'a> {
@@ -155,9 +160,13 @@ impl<'a> System<'a> {
         let minv_load_blocks = minv_loads.iter().map(|l| Row::from_dense(l)).collect();
         let frictions = friction_rows(model, &structure.components, params)?;
         let hysteresis = hysteresis_rows(model, &structure.components, params)?;
+        let contacts = contact_rows(model, &structure.components, params)?;
         let mut comps = comps;
         for (j, fr) in frictions.iter().enumerate() {
             comps[fr.comp].friction = Some(j as u32);
+        }
+        for (j, row) in contacts.iter().enumerate() {
+            comps[row.comp].contact = Some(j as u32);
         }
         let mut sys = System {
             power_b: Aligned::default(),
@@ -181,6 +190,7 @@ impl<'a> System<'a> {
             minv_load_blocks,
             frictions,
             hysteresis,
+            contacts,
             one_term_each: model.excitations.iter().all(|e| e.signal.terms.len() == 1),
             signals: (model.excitations.iter())
                 .map(|e| FixedSignal::new(&e.signal, params))
@@ -224,6 +234,9 @@ impl<'a> System<'a> {
         for (row, p) in self.power.iter_mut().zip(&mut self.powers) {
             p.pre = Preload::new(p.spring.m, row.row.dot(q0));
             row.pre = p.pre;
+        }
+        for row in &mut self.contacts {
+            row.law.d0 = self.structure.components[row.comp].row.dot(q0);
         }
         self.base.fill(0.0);
         self.static_dq = dq0;
@@ -325,7 +338,9 @@ impl<'a> System<'a> {
     /// and the weight.
     fn reach(&self, a_ext: &[f64], ext_cols: usize) -> usize {
         let n = self.n;
-        if self.every || !self.frictions.is_empty() || !self.hysteresis.is_empty() {
+        let laws =
+            !self.frictions.is_empty() || !self.hysteresis.is_empty() || !self.contacts.is_empty();
+        if self.every || laws {
             return n;
         }
         let moves = |i: usize| {
@@ -405,10 +420,11 @@ impl<'a> System<'a> {
     /// `scratch` is at least [`System::scratch_len`] long.
     #[inline(always)]
     pub fn accel(&self, forces: &[f64], y: &[f64], scratch: &mut [f64], acc: &mut [f64]) {
-        self.accel_with::<Separate, Dynamic>(forces, y, scratch, acc)
+        self.accel_with::<Separate, Dynamic>(forces, y, scratch, &[], acc)
     }
 
-    /// [`System::accel`] with a chosen multiply–add and size. The
+    /// [`System::accel`] with a chosen multiply–add and size, and each
+    /// contact on its side in `contact_sides` (empty: its own; `stepper`). The
     /// element-by-element kernel is compiled only with n at run time
     /// ([`Dim::SPARSE`]): a fixed size must not be given a system set to run
     /// element by element.
@@ -418,6 +434,7 @@ impl<'a> System<'a> {
         forces: &[f64],
         y: &[f64],
         scratch: &mut [f64],
+        contact_sides: &[f64],
         acc: &mut [f64],
     ) {
         let n = D::n(self.n);
@@ -431,6 +448,15 @@ impl<'a> System<'a> {
         }
         if !self.frictions.is_empty() {
             friction_accel::<M>(&self.comps, &self.frictions, &y[n..], acc);
+        }
+        if !self.contacts.is_empty() {
+            contact_accel::<M>(
+                &self.comps,
+                &self.contacts,
+                y.split_at(n),
+                contact_sides,
+                acc,
+            );
         }
     }
 
@@ -557,65 +583,6 @@ impl<'a> System<'a> {
             live = live.saturating_sub(4);
         }
     }
-
-    /// The tangent stiffness `K_t = K + Σ f'(δ_i) B_iᵀ B_i` at `q` (dense n×n,
-    /// row-major), used for static equilibrium and modal analysis.
-    pub fn tangent_stiffness(&self, q: &[f64]) -> Vec<f64> {
-        let deformations: Vec<f64> = self.power.iter().map(|pr| pr.row.dot(q)).collect();
-        self.tangent_at_deformations(&deformations)
-    }
-
-    /// The tangent stiffness with each power-law spring at the deformation
-    /// given for it (in the order of [`System::power_components`]' power
-    /// laws), whatever state that would take: dense n×n, row-major.
-    pub fn tangent_at_deformations(&self, deformations: &[f64]) -> Vec<f64> {
-        let n = self.n;
-        let mut kt = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                kt[i * n + j] = -self.a_lin[i * 2 * n + j] / self.minv[i];
-            }
-        }
-        for (pr, &delta) in self.power.iter().zip(deformations) {
-            let (_, slope) = power_law(pr.a, pr.m, delta);
-            if slope == 0.0 {
-                continue;
-            }
-            // slope · b bᵀ over the row's blocks only (the rest is zero).
-            for (oi, ci) in &pr.row.blocks {
-                for (oj, cj) in &pr.row.blocks {
-                    for i in 0..6 {
-                        for j in 0..6 {
-                            kt[(oi + i) * n + oj + j] += slope * ci[i] * cj[j];
-                        }
-                    }
-                }
-            }
-        }
-        kt
-    }
-
-    /// For each component row, `Some((a, m))` for a power-law spring
-    /// `a · sign(δ)|δ|^m`, δ in SI units.
-    pub fn power_components(&self) -> Vec<Option<(f64, f64)>> {
-        self.structure
-            .components
-            .iter()
-            .map(|c| c.law.power_spring(&self.params).map(|p| (p.coef, p.m)))
-            .collect()
-    }
-
-    /// The damping matrix C (dense n×n, row-major).
-    pub fn damping_matrix(&self) -> Vec<f64> {
-        let n = self.n;
-        let mut c = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                c[i * n + j] = -self.a_lin[i * 2 * n + n + j] / self.minv[i];
-            }
-        }
-        c
-    }
 }
 
 /// Refuses a parameter value that is not finite.
@@ -703,7 +670,7 @@ fn component_matrices(
             add_outer(&mut k, n, &comp.row, kv);
         }
         match comp.law {
-            Law::None | Law::Linear(_) | Law::Friction(_) | Law::BoucWen(_) => {}
+            Law::None | Law::Linear(_) | Law::Friction(_) | Law::BoucWen(_) | Law::Contact(_) => {}
             Law::Power(pw) => {
                 let m = pw.m.eval(params);
                 if !(m >= 1.0) {

@@ -24,8 +24,10 @@
 //! multiply the constant `B_p ∂q₀/∂x` of each power-law spring p.
 use super::dim::Dim;
 use super::force_derivative::force_derivative;
+use super::laws::contact::{ContactForce, ContactState};
 use super::laws::friction::{FrictionAt, FrictionForce};
 use super::laws::power_law;
+use super::laws::ContactKey;
 use super::madd::Madd;
 use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
@@ -45,6 +47,9 @@ struct Active {
     power: Option<PowerSpring>,
     /// The friction law, if any: its slope in δ̇ enters J's velocity half.
     friction: Option<FrictionForce>,
+    /// The contact law, if any, with its index in [`System::contacts`]:
+    /// its slopes enter both halves of J.
+    contact: Option<(ContactForce, usize)>,
     /// Its static deformation.
     pre: Preload,
     /// `B_i ∂q₀/∂x` ([`static_columns`]).
@@ -78,6 +83,11 @@ pub(crate) struct Tangent {
     /// For each Bouc–Wen component ([`System::hysteresis`]), the
     /// identified parameters acting on its internal state: (column, key).
     hysteresis: Vec<Vec<(usize, HysteresisKey)>>,
+    /// For each contact ([`System::contacts`]), `B ∂q₀/∂x` ([`static_columns`],
+    /// empty without a static equilibrium moving with x) and the columns
+    /// of the parameters standing for its gap: what the instant of a
+    /// located closing moves with (`contact_events`).
+    contacts: Vec<(Vec<f64>, Vec<usize>)>,
 }
 
 impl Tangent {
@@ -90,12 +100,15 @@ impl Tangent {
         let (usages, others) = usages_by_component(sys.structure, wrt);
         let hysteresis = hysteresis_usages(sys, wrt);
         let width = wrt.len().next_multiple_of(4);
+        let contacts = contact_terms(sys, &usages, wrt.len(), width);
         if sys.sparse {
             let mut t = Tangent::sparse(sys, wrt.len(), width, usages, others);
             t.hysteresis = hysteresis;
+            t.contacts = contacts;
             return t;
         }
         Tangent {
+            contacts,
             width,
             active: active_components(sys, wrt.len(), width, usages),
             others,
@@ -118,6 +131,7 @@ impl Tangent {
             component_statics: Vec::new(),
             component_entries: Vec::new(),
             hysteresis: Vec::new(),
+            contacts: Vec::new(),
         }
     }
 
@@ -136,13 +150,8 @@ impl Tangent {
             .iter()
             .zip(&sys.comps)
             .map(|(c, comp)| {
-                component_static_columns(
-                    sys,
-                    c,
-                    comp.power(&sys.powers).map(|p| p.spring),
-                    r,
-                    width,
-                )
+                let moves = comp.power.is_some() || comp.contact.is_some();
+                component_static_columns(sys, c, moves, r, width)
             })
             .collect();
         Tangent {
@@ -154,6 +163,7 @@ impl Tangent {
             component_statics,
             component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
             hysteresis: Vec::new(),
+            contacts: Vec::new(),
         }
     }
 
@@ -161,6 +171,13 @@ impl Tangent {
     /// internal state: (column, key); empty without sensitivities.
     pub fn hysteresis_usages(&self) -> &[Vec<(usize, HysteresisKey)>] {
         &self.hysteresis
+    }
+
+    /// Contact j's `B ∂q₀/∂x` (empty without one) and its gap's columns.
+    pub fn contact_terms(&self, j: usize) -> (&[f64], &[usize]) {
+        self.contacts
+            .get(j)
+            .map_or((&[][..], &[][..]), |(s, g)| (&s[..], &g[..]))
     }
 
     /// Scratch length that [`Self::apply`] needs for n coordinates: J
@@ -173,7 +190,8 @@ impl Tangent {
     }
 
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
-    /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows).
+    /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows),
+    /// each contact on its side in `contact_sides` ([`System::accel_with`]).
     /// `scratch` has [`Self::scratch_len`]. As for [`System::accel_with`],
     /// a fixed size D must not be given an element-by-element system.
     #[inline(always)]
@@ -182,7 +200,7 @@ impl Tangent {
         &self,
         sys: &System<'_>,
         (t, before): (f64, bool),
-        y: &[f64],
+        (y, contact_sides): (&[f64], &[f64]),
         acc: &[f64],
         sy: &[f64],
         dacc: &mut [f64],
@@ -199,7 +217,7 @@ impl Tangent {
                 &self.component_statics[..],
                 &self.component_entries[..],
             );
-            sparse_tangent::<M>(sys, columns, (q, v), sy, width, dacc);
+            sparse_tangent::<M>(sys, columns, (q, v, contact_sides), sy, width, dacc);
             self.add_others(sys, (t, before), acc, dacc);
             return;
         }
@@ -216,32 +234,29 @@ impl Tangent {
             let d = dot::<M>(b, q);
             if let Some(p) = comp.power {
                 let slope = power_law(p.coef, p.m, comp.pre.d0 + d).1;
-                if slope != 0.0 {
-                    for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
-                        axpy::<M>(slope * g[k], b, &mut row[..n]);
-                    }
-                }
+                add_rank_one::<M>(jac, n, (g, b), slope, 0);
                 let change = match comp.static_columns.is_empty() {
                     true => 0.0,
                     false => power_change(p.coef, p.m, &comp.pre, d).1,
                 };
-                if change != 0.0 {
-                    for (col, w) in et.chunks_exact_mut(n).zip(&comp.static_columns) {
-                        axpy::<M>(change * w, g, col);
-                    }
-                }
+                add_static_change::<M>(et, n, g, &comp.static_columns, change);
             }
             let mut cached = None;
             let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
             let friction = FrictionAt::of(comp.friction.as_ref(), &mut rate);
-            let slope = friction.slope();
-            if slope != 0.0 {
-                for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
-                    axpy::<M>(slope * g[k], b, &mut row[n..]);
-                }
-            }
+            let side = match comp.contact {
+                Some((_, j)) => contact_sides.get(j).copied().unwrap_or(0.0),
+                None => 0.0,
+            };
+            let contact =
+                ContactState::of(comp.contact.as_ref().map(|c| &c.0), (d, side), &mut rate);
+            add_rank_one::<M>(jac, n, (g, b), contact.at.slope, 0);
+            let change = contact.slope_change();
+            add_static_change::<M>(et, n, g, &comp.static_columns, change);
+            let slope = friction.slope() + contact.at.damping;
+            add_rank_one::<M>(jac, n, (g, b), slope, 1);
             for &(col, usage) in &comp.usages {
-                let laws = (comp.power, &friction);
+                let laws = (comp.power, &friction, &contact);
                 let f = force_derivative(usage, laws, &comp.pre, d, &mut rate);
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
@@ -320,7 +335,8 @@ fn usages_by_component(structure: &Structure, wrt: &[usize]) -> (Vec<ColumnUsage
                 | Usage::Damping(i)
                 | Usage::PowerCoefficient(i)
                 | Usage::PowerExponent(i)
-                | Usage::Friction(i, _) => usages[i].push((col, usage)),
+                | Usage::Friction(i, _)
+                | Usage::Contact(i, _) => usages[i].push((col, usage)),
                 Usage::Hysteresis(..) => {}
                 Usage::Mass(_) | Usage::Inertia(..) | Usage::Amplitude(..) => {
                     others.push((col, usage))
@@ -351,18 +367,41 @@ fn hysteresis_usages(sys: &System<'_>, wrt: &[usize]) -> Vec<Vec<(usize, Hystere
         .collect()
 }
 
-/// A component's `B_i ∂q₀/∂x` ([`static_columns`]) if it is a power-law
-/// spring, else empty.
+/// For each contact of `sys`, its `B ∂q₀/∂x` and the columns of its
+/// gap's parameters ([`Tangent::contact_terms`]), from the usages per
+/// component.
+fn contact_terms(
+    sys: &System<'_>,
+    usages: &[Vec<(usize, Usage)>],
+    r: usize,
+    width: usize,
+) -> Vec<(Vec<f64>, Vec<usize>)> {
+    sys.contacts
+        .iter()
+        .map(|ct| {
+            let row = &sys.structure.components[ct.comp].row;
+            let gap = (usages[ct.comp].iter())
+                .filter(|(_, u)| matches!(u, Usage::Contact(_, ContactKey::Gap)))
+                .map(|(col, _)| *col)
+                .collect();
+            (static_columns(sys, row, r, width), gap)
+        })
+        .collect()
+}
+
+/// A component's `B_i ∂q₀/∂x` ([`static_columns`]) if its slope moves
+/// with the static deformation (`moves`: a power-law spring, a contact),
+/// else empty.
 fn component_static_columns(
     sys: &System<'_>,
     c: &ComponentRow,
-    power: Option<PowerSpring>,
+    moves: bool,
     r: usize,
     width: usize,
 ) -> Vec<f64> {
-    match power {
-        Some(_) => static_columns(sys, &c.row, r, width),
-        None => Vec::new(),
+    match moves {
+        true => static_columns(sys, &c.row, r, width),
+        false => Vec::new(),
     }
 }
 
@@ -381,7 +420,7 @@ fn active_components(
         .zip(usages)
         .zip(&sys.comps)
         .filter(|((c, u), _)| {
-            matches!(c.law, Law::Power { .. } | Law::Friction(_)) || !u.is_empty()
+            matches!(c.law, Law::Power(_) | Law::Friction(_) | Law::Contact(_)) || !u.is_empty()
         })
         .map(|((c, usages), comp)| {
             let power = c.law.power_spring(&sys.params);
@@ -391,14 +430,54 @@ fn active_components(
                 b,
                 power,
                 friction: comp.friction.map(|j| sys.frictions[j as usize].law),
+                contact: comp
+                    .contact
+                    .map(|j| (sys.contacts[j as usize].law, j as usize)),
                 pre: comp
                     .power(&sys.powers)
                     .map_or_else(Preload::default, |p| p.pre),
-                static_columns: component_static_columns(sys, c, power, r, width),
+                static_columns: component_static_columns(
+                    sys,
+                    c,
+                    power.is_some() || comp.contact.is_some(),
+                    r,
+                    width,
+                ),
                 usages,
             }
         })
         .collect()
+}
+
+/// `J += slope · g bᵀ` in J's position half (`half` 0) or velocity half
+/// (1); nothing for a zero slope.
+#[inline(always)]
+fn add_rank_one<M: Madd>(
+    jac: &mut [f64],
+    n: usize,
+    (g, b): (&[f64], &[f64]),
+    slope: f64,
+    half: usize,
+) {
+    if slope == 0.0 {
+        return;
+    }
+    for (k, row) in jac.chunks_exact_mut(2 * n).enumerate() {
+        axpy::<M>(slope * g[k], b, &mut row[half * n..(half + 1) * n]);
+    }
+}
+
+/// `Eᵀ[col] += change · w_col · g` for each column's `B ∂q₀/∂x` in
+/// `statics` (a slope's change from the static one); nothing for a zero
+/// change or without them.
+#[inline(always)]
+fn add_static_change<M: Madd>(et: &mut [f64], n: usize, g: &[f64], statics: &[f64], change: f64) {
+    if change == 0.0 {
+        return;
+    }
+    for (col, w) in et.chunks_exact_mut(n).zip(statics) {
+        axpy::<M>(change * w, g, col);
+    }
 }
 
 /// `a · x` for a of even length, in two partial sums.

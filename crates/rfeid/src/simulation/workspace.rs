@@ -43,6 +43,17 @@ pub struct Workspace {
     pub(crate) z: InternalStates,
     /// Whether a watch stopped the run (`run::Span::notify`).
     pub(crate) stopped: bool,
+    /// Per contact, the side a step or a piece of a split step holds it on
+    /// (+1 acting, −1 not; `contact_events`), the side of the piece before
+    /// and the side at the step's start; its closure and force with their rates (per unit of
+    /// the step) at the trial step's ends, `[s0, ṡ0, s1, ṡ1, f0, ḟ0, f1,
+    /// ḟ1]`; and the located openings and closings of the step: (θ,
+    /// contact, whether of the force).
+    pub(super) contact_sides: Vec<f64>,
+    pub(super) contact_sides_before: Vec<f64>,
+    pub(super) contact_start_sides: Vec<f64>,
+    pub(super) contact_ends: Vec<[f64; 8]>,
+    pub(super) contact_marks: Vec<(f64, usize, bool)>,
 }
 
 /// The internal states z of a run (`hysteresis`): the state, its stages
@@ -115,6 +126,12 @@ impl Workspace {
         self.forces_time = f64::NAN;
         self.phases_time = f64::NAN;
         self.crossings.clear();
+        resize(&mut self.contact_sides, sys.contacts.len());
+        resize(&mut self.contact_sides_before, sys.contacts.len());
+        resize(&mut self.contact_start_sides, sys.contacts.len());
+        self.contact_ends.clear();
+        self.contact_ends.resize(sys.contacts.len(), [0.0; 8]);
+        self.contact_marks.clear();
     }
 }
 

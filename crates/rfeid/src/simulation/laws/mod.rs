@@ -7,11 +7,13 @@
 //! parameters, `check`, the report and the FRF study ask it rather than
 //! match on it. The kernels keep a fast path per law.
 pub(crate) mod bouc_wen;
+pub(crate) mod contact;
 pub(crate) mod friction;
 mod linear;
 pub(crate) mod power;
 
 pub use bouc_wen::{BoucWen, HysteresisKey};
+pub use contact::{Contact, ContactKey, ContactSpring};
 pub use friction::{Friction, FrictionKey};
 pub use linear::Linear;
 pub use power::{power_law, Power, PowerSpring};
@@ -32,6 +34,8 @@ pub enum Law {
     Friction(Friction),
     /// Bouc–Wen hysteresis (SPEC §1), with an internal state z.
     BoucWen(BoucWen),
+    /// A contact, acting only while closed (SPEC §1).
+    Contact(Contact),
 }
 
 /// A component without a spring: its damper alone.
@@ -62,6 +66,7 @@ impl Law {
             Law::Power(l) => l,
             Law::Friction(l) => l,
             Law::BoucWen(l) => l,
+            Law::Contact(l) => l,
         }
     }
 
@@ -149,6 +154,8 @@ pub enum KeyRole {
     Friction(FrictionKey),
     /// A key of the Bouc–Wen state's rate.
     Hysteresis(HysteresisKey),
+    /// A key of a contact's force.
+    Contact(ContactKey),
 }
 
 /// The unit of a law's key, for a translation or a rotation.
@@ -160,6 +167,8 @@ pub enum KeyUnit {
     Force,
     /// m/s, or rad/s.
     Velocity,
+    /// N·s/m, or N·m·s/rad.
+    Damping,
     /// m, or rad.
     Length,
     /// A number whose unit depends on another key (or none).
@@ -177,6 +186,8 @@ impl KeyUnit {
             (KeyUnit::Force, true) => "N*m",
             (KeyUnit::Velocity, false) => "m/s",
             (KeyUnit::Velocity, true) => "rad/s",
+            (KeyUnit::Damping, false) => "N*s/m",
+            (KeyUnit::Damping, true) => "N*m*s/rad",
             (KeyUnit::Length, false) => "m",
             (KeyUnit::Length, true) => "rad",
             (KeyUnit::Bare, _) => "",
@@ -271,12 +282,13 @@ impl<E> LawReader<E> {
 
 /// Every law a model file can name, one line each. A component naming no
 /// law takes the last one that a key it gives implies.
-pub fn readers<E>() -> [LawReader<E>; 4] {
+pub fn readers<E>() -> [LawReader<E>; 5] {
     [
         LawReader::of::<Linear>(),
         LawReader::of::<Power>(),
         LawReader::of::<Friction>(),
         LawReader::of::<BoucWen>(),
+        LawReader::of::<Contact>(),
     ]
 }
 

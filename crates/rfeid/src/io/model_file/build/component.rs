@@ -38,8 +38,13 @@ pub(super) fn component(
         entry: format!("{element}, component {cname}"),
         rotational: dof >= 3,
     };
-    let law = law(ctx, &comp)?;
-    let damping = damping(ctx, &comp)?;
+    let (law, own) = law(ctx, &comp)?;
+    // A law that takes `c` itself (a contact's damper acts only while it
+    // is closed) leaves the component none of its own.
+    let damping = match own.contains(&"c") {
+        true => Value::Fixed(0.0),
+        false => damping(ctx, &comp)?,
+    };
     Ok(Component { dof, law, damping })
 }
 
@@ -78,8 +83,9 @@ fn law_list<E>(laws: &[LawReader<E>]) -> String {
     }
 }
 
-/// A component's spring law, read by the law it names from its keys.
-fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
+/// A component's spring law, read by the law it names from its keys, and
+/// the keys that law takes.
+fn law(ctx: &mut Ctx, comp: &Comp) -> Result<(Law, &'static [&'static str])> {
     let laws = readers::<Box<ModelFileError>>();
     let name = law_name(ctx, comp, &laws)?;
     // Named first: a misspelt law is not a home for misplaced keys.
@@ -102,8 +108,8 @@ fn law(ctx: &mut Ctx, comp: &Comp) -> Result<Law> {
         return Err(stray_key(ctx, comp, key, v, &name, own, &laws));
     }
     match reader {
-        Some(r) => (r.read)(&mut ComponentKeys { ctx, comp }),
-        None => damper_only(ctx, comp),
+        Some(r) => Ok(((r.read)(&mut ComponentKeys { ctx, comp })?, r.keys)),
+        None => Ok((damper_only(ctx, comp)?, &[])),
     }
 }
 

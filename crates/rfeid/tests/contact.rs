@@ -1,0 +1,140 @@
+//! The contact law (SPEC §1, `law = "contact"`) in whole simulations: a
+//! slide bolted to a base through a contact that lifts off in every
+//! tension peak (`examples/contact`). Sensitivities to every key against
+//! finite differences at a fixed step sequence on both kernels, through
+//! the located openings and closings, touching at rest and preloaded; the
+//! convergence of the response with the steps per sample; a contact that
+//! never opens is its linear spring.
+use crate::common;
+
+use common::*;
+use rfeid::model::Model;
+use rfeid::simulation::steps::integrator;
+use rfeid::simulation::{Kernel, Sensitivities, Simulator, Workspace};
+
+/// The example's model with the contact's gap a parameter, and `{GAP}` its
+/// value.
+fn contact_model(gap: &str) -> Model {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/contact/model.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let law = r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = 0.0 }"#;
+    assert!(text.contains(law), "the example's contact");
+    let text = text.replace(
+        law,
+        r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = "gap" }"#,
+    ) + &format!("\n[[parameter]]\nname = \"gap\"\nvalue = \"{gap}\"\n");
+    // Displacements and velocities: an acceleration jumps where the contact
+    // closes at a speed (its damper's c ṡ), so a sample at that instant is
+    // not differentiable in the parameters.
+    let text = text.replace("quantity = \"acceleration\"", "quantity = \"displacement\"")
+        + "\n[[sensor]]\nname = \"slide_v\"\nbody = \"slide\"\nat = [0.0, 0.0, 0.2]\ndirection = [0, 0, 1]\nquantity = \"velocity\"\n";
+    model(&text)
+}
+
+/// The sensitivities of the slide's and the base's displacements and the
+/// slide's velocity to the contact's k, c and gap at 32 steps per sample,
+/// against the five-point stencil of runs at the same steps, each
+/// column's error in units of its RMS, to 1e-6; the kernels agree to
+/// rounding. Touching at rest (gap 0), preloaded (−5 µm) and open at rest
+/// (+2 µm). At gap 0 exactly the static equilibrium has a kink in the gap
+/// (a preload for gap < 0, none for gap > 0), so no derivative in it
+/// exists there: only k and c are compared. The stencil's steps: 1e-6 of
+/// k, 1e-5 of c, 1e-10 m of the gap (measured: at 1e-9 m the stencil's own
+/// error is 2.5e-5 of the column).
+#[test]
+fn sensitivities_through_openings_and_closings_match_finite_differences() {
+    for gap in ["0 m", "-5e-6 m", "2e-6 m"] {
+        let model = contact_model(gap);
+        let wrt: Vec<usize> = (0..model.parameters.len())
+            .filter(|&p| gap != "0 m" || model.parameters[p].name != "gap")
+            .collect();
+        let x = model.nominal();
+        let mut columns = Vec::new();
+        for kernel in [Kernel::Dense, Kernel::Sparse] {
+            let mut sim = Simulator::with_integrator(&model, integrator(32));
+            sim.set_kernel(kernel);
+            let mut ws = Workspace::default();
+            let mut out = sim.response_buffer();
+            let mut sens = Sensitivities {
+                wrt: vec![],
+                values: vec![],
+            };
+            sim.run_with_sensitivities(&x, &wrt, &mut ws, &mut out, &mut sens)
+                .unwrap();
+            let rows = out.values.len();
+            for (j, &p) in wrt.iter().enumerate() {
+                let name = &model.parameters[p].name;
+                let h = match name.as_str() {
+                    "gap" => 1e-10,
+                    "k_contact" => 1e-6 * x[p],
+                    _ => 1e-5 * x[p],
+                };
+                let col: Vec<f64> = (0..rows).map(|i| sens.values[i * wrt.len() + j]).collect();
+                let fd = five_point(&sim, &mut ws, &x, p, h);
+                let diff: Vec<f64> = col.iter().zip(&fd).map(|(s, f)| s - f).collect();
+                let err = max_abs(&diff) / rms(&col);
+                eprintln!("gap {gap}, {kernel:?}, {name}: {err:.2e} of the column's RMS");
+                assert!(err < 1e-6, "gap {gap}, {kernel:?}, {name}: {err:.2e}");
+                columns.push(col);
+            }
+        }
+        assert_kernels_agree(gap, &columns);
+    }
+}
+
+/// The response converges with the steps per sample through the openings
+/// and closings: the slide's acceleration at 1, 2, 4, 8 and 16 steps per
+/// sample against 64, each error in units of the signal's RMS, falls
+/// below 1e-6 at 16 and at least fourfold with each doubling from 1 to 8.
+#[test]
+fn the_response_converges_through_openings_and_closings() {
+    let model = contact_model("-5e-6 m");
+    let run = |k: usize| simulate(&model, &model.nominal(), Some(integrator(k))).values;
+    let reference = run(64);
+    let scale = rms(&reference);
+    let errors: Vec<f64> = [1, 2, 4, 8, 16]
+        .into_iter()
+        .map(|k| {
+            let y = run(k);
+            let diff: Vec<f64> = y.iter().zip(&reference).map(|(a, b)| a - b).collect();
+            rms(&diff) / scale
+        })
+        .collect();
+    let shown: Vec<String> = errors.iter().map(|e| format!("{e:.2e}")).collect();
+    eprintln!(
+        "errors at 1, 2, 4, 8, 16 steps per sample: {}",
+        shown.join(", ")
+    );
+    assert!(errors[4] < 1e-6, "{errors:?}");
+    for w in errors[..4].windows(2) {
+        assert!(w[1] < 0.25 * w[0], "{errors:?}");
+    }
+}
+
+/// A contact preloaded so that it never opens under a small force is its
+/// spring and damper: the same response as the linear component with the
+/// same k and c, about the same equilibrium (accelerations to 1e-9 of
+/// their RMS).
+#[test]
+fn a_contact_that_never_opens_is_its_linear_spring() {
+    let small = |text: String| text.replace(" N\", frequency", " mN\", frequency");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/contact/model.toml"
+    );
+    let text = small(std::fs::read_to_string(path).unwrap());
+    let contact = r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = 0.0 }"#;
+    assert!(text.contains(contact));
+    let preloaded = text.replace(contact, &contact.replace("gap = 0.0", "gap = -5e-6"));
+    let linear = text.replace(contact, r#"uz = { k = "k_contact", c = "c_contact" }"#);
+    let (a, b) = (model(&preloaded), model(&linear));
+    let run = |m: &Model| simulate(m, &m.nominal(), Some(integrator(4))).values;
+    let (ya, yb) = (run(&a), run(&b));
+    let diff: Vec<f64> = ya.iter().zip(&yb).map(|(x, y)| x - y).collect();
+    let err = max_abs(&diff) / rms(&yb);
+    eprintln!("preloaded contact against its linear spring: {err:.2e} of the RMS");
+    assert!(err < 1e-9, "{err:.2e}");
+}
