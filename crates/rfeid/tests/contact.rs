@@ -10,7 +10,7 @@ use crate::common;
 use common::*;
 use rfeid::model::Model;
 use rfeid::simulation::steps::integrator;
-use rfeid::simulation::{Kernel, Sensitivities, Simulator, Workspace};
+use rfeid::simulation::{Kernel, Simulator, Workspace};
 
 /// The example's model with the contact's gap a parameter, and `{GAP}` its
 /// value.
@@ -57,25 +57,15 @@ fn sensitivities_through_openings_and_closings_match_finite_differences() {
             let mut sim = Simulator::with_integrator(&model, integrator(32));
             sim.set_kernel(kernel);
             let mut ws = Workspace::default();
-            let mut out = sim.response_buffer();
-            let mut sens = Sensitivities {
-                wrt: vec![],
-                values: vec![],
-            };
-            sim.run_with_sensitivities(&x, &wrt, &mut ws, &mut out, &mut sens)
-                .unwrap();
-            let rows = out.values.len();
-            for (j, &p) in wrt.iter().enumerate() {
+            let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, &wrt);
+            for (&p, col) in wrt.iter().zip(cols) {
                 let name = &model.parameters[p].name;
                 let h = match name.as_str() {
                     "gap" => 1e-10,
                     "k_contact" => 1e-6 * x[p],
                     _ => 1e-5 * x[p],
                 };
-                let col: Vec<f64> = (0..rows).map(|i| sens.values[i * wrt.len() + j]).collect();
-                let fd = five_point(&sim, &mut ws, &x, p, h);
-                let diff: Vec<f64> = col.iter().zip(&fd).map(|(s, f)| s - f).collect();
-                let err = max_abs(&diff) / rms(&col);
+                let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
                 eprintln!("gap {gap}, {kernel:?}, {name}: {err:.2e} of the column's RMS");
                 assert!(err < 1e-6, "gap {gap}, {kernel:?}, {name}: {err:.2e}");
                 columns.push(col);

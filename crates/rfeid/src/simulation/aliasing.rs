@@ -113,7 +113,7 @@ impl DeformationPeaks {
     }
 
     /// [`DeformationPeaks::fastest`] where it may exceed `limit` Hz, `None`
-    /// where it cannot. A stiffening power law (m ≥ 1, a ≥ 0) is stiffest
+    /// where it cannot. Without a contact, a stiffening power law (m ≥ 1, a ≥ 0) is stiffest
     /// where it is most deformed, so the tangent with every such spring at
     /// its own largest deformation bounds the tangent at every state of
     /// the run (in the order of symmetric matrices), and its top frequency
@@ -127,8 +127,10 @@ impl DeformationPeaks {
     ) -> Option<FastestMode> {
         let sys = sim.system(params).ok()?;
         let power = sys.power_components();
-        let stiffening =
-            (self.components.iter()).all(|&c| power[c].is_some_and(|(a, m)| a >= 0.0 && m >= 1.0));
+        // A contact's stiffness is not in the bound: without one only.
+        let stiffening = sys.contacts.is_empty()
+            && (self.components.iter())
+                .all(|&c| power[c].is_some_and(|(a, m)| a >= 0.0 && m >= 1.0));
         if stiffening {
             let most: Vec<f64> = self.most.iter().map(|m| m.1.max(0.0)).collect();
             let bound = highest_frequency_of(&sys, &sys.tangent_at_deformations(&most));

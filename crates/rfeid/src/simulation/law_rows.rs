@@ -118,8 +118,9 @@ pub(crate) fn friction_accel<M: Madd>(
 /// Adds each contact component's force (its change from the static one)
 /// times `−M⁻¹B_iᵀ` to the accelerations `acc`, for the state `y = [q; q̇]`,
 /// each on its side in `sides` (empty: every one on its own,
-/// [`ContactForce::at_side`]).
-#[inline(always)]
+/// [`ContactForce::at_side`]). Out of line: the kernels that inline it
+/// are compiled once per size and kernel, and most models have no contact.
+#[inline(never)]
 pub(crate) fn contact_accel<M: Madd>(
     comps: &[SparseComp],
     contacts: &[ContactRow],

@@ -147,9 +147,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     pub fn step(&self, ws: &mut Workspace, t: f64, h: f64, with_sens: bool) {
         let mut split = false;
         let (mut from, mut piece) = (0.0, 0);
-        if !self.sys.contacts.is_empty() && start_contact_sides::<M>(self.sys, ws) {
-            self.first_stage(ws, t, with_sens);
-        }
+        // Stage 0 again where a contact's side differs from the one it was
+        // evaluated on (one call site for the stages, see above).
+        let mut refresh = !self.sys.contacts.is_empty() && start_contact_sides::<M>(self.sys, ws);
         loop {
             let last = !split || piece == ws.crossings.len();
             let to = if last { 1.0 } else { ws.crossings[piece] };
@@ -163,14 +163,18 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 z.branch_before.copy_from_slice(&z.branch);
                 set_branches(z, (from, to));
                 set_contact_sides(ws, (from, to));
+                refresh |= piece == 0 && ws.contact_sides != ws.contact_start_sides;
             }
-            if split && piece > 0 {
+            if (split && piece > 0) || refresh {
                 self.first_stage(ws, ti, false);
                 if with_sens {
-                    self.event_jumps(ws);
-                    contact_jumps::<M>(self.sys, &self.tangent, ws, from);
+                    if split && piece > 0 {
+                        self.event_jumps(ws);
+                        contact_jumps::<M>(self.sys, &self.tangent, ws, from);
+                    }
                     self.first_sens_stage(ws, ti);
                 }
+                refresh = false;
             }
             self.state_stages(ws, ti, hi);
             if !split && self.locate && self.find_crossings(ws, h) {

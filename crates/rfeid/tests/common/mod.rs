@@ -4,7 +4,7 @@
 
 use rfeid::io::model_file::parse_model;
 use rfeid::model::Model;
-use rfeid::simulation::{Integrator, Response, Simulator, Workspace};
+use rfeid::simulation::{Integrator, Response, Sensitivities, Simulator, Workspace};
 use std::path::Path;
 
 /// Parses model text, panicking with the error's message on failure.
@@ -33,6 +33,36 @@ pub fn five_point(
     (0..a.len())
         .map(|i| (a[i] - 8.0 * b[i] + 8.0 * c[i] - d[i]) / (12.0 * h))
         .collect()
+}
+
+/// The sensitivities of `sim`'s response at `x` to the parameters `wrt`,
+/// one column (every sample of every sensor) per parameter, and the
+/// response.
+pub fn sensitivity_columns(
+    sim: &Simulator<'_>,
+    ws: &mut Workspace,
+    x: &[f64],
+    wrt: &[usize],
+) -> (Response, Vec<Vec<f64>>) {
+    let mut out = sim.response_buffer();
+    let mut sens = Sensitivities {
+        wrt: vec![],
+        values: vec![],
+    };
+    sim.run_with_sensitivities(x, wrt, ws, &mut out, &mut sens)
+        .unwrap();
+    let rows = out.values.len();
+    let columns = (0..wrt.len())
+        .map(|j| (0..rows).map(|i| sens.values[i * wrt.len() + j]).collect())
+        .collect();
+    (out, columns)
+}
+
+/// The largest difference between a sensitivity column and its finite
+/// difference `fd`, in units of the column's RMS.
+pub fn column_error(col: &[f64], fd: &[f64]) -> f64 {
+    let diff: Vec<f64> = col.iter().zip(fd).map(|(s, f)| s - f).collect();
+    max_abs(&diff) / rms(col)
 }
 
 /// Asserts that the sensitivity columns of the dense kernel (the first half

@@ -176,6 +176,18 @@ pub(crate) struct ContactAt {
     spring: f64,
 }
 
+impl ContactAt {
+    /// An open contact: no force, every number zero.
+    const ZERO: ContactAt = ContactAt {
+        force: 0.0,
+        slope: 0.0,
+        damping: 0.0,
+        s: 0.0,
+        v: 0.0,
+        spring: 0.0,
+    };
+}
+
 impl ContactForce {
     /// The law `law` at the parameter values `p`.
     pub fn new(law: &Contact, p: &[f64]) -> ContactForce {
@@ -193,7 +205,7 @@ impl ContactForce {
     }
 
     /// The spring's force and slope at the closure `s > 0`.
-    #[inline(always)]
+    #[inline]
     fn spring(&self, s: f64) -> (f64, f64) {
         match self.linear {
             true => (self.spring.coef * s, self.spring.coef),
@@ -230,7 +242,7 @@ impl ContactForce {
     }
 
     /// The law at the deformation `d` (absolute) and rate `v`.
-    #[inline(always)]
+    #[inline]
     pub fn at(&self, d: f64, v: f64) -> ContactAt {
         self.at_side(d, v, 0.0)
     }
@@ -241,7 +253,7 @@ impl ContactForce {
     /// pushing): the side a piece of a split step is evaluated on next to
     /// a located opening or closing (`contact_events`), where rounding may
     /// leave either sign.
-    #[inline(always)]
+    #[inline]
     pub fn at_side(&self, d: f64, v: f64, side: f64) -> ContactAt {
         let s = d - self.gap;
         if side < 0.0 || (side == 0.0 && !(s > 0.0)) {
@@ -265,20 +277,20 @@ impl ContactForce {
     /// The force of the spring and the damper, acting, and the spring's
     /// slope, at the closure `s` and rate `v`: the function whose zero,
     /// closed, opens the contact.
-    #[inline(always)]
+    #[inline]
     pub fn raw(&self, s: f64, v: f64) -> (f64, f64) {
         let (spring, slope) = self.spring(s);
         (spring + self.c * v, slope)
     }
 
     /// The damping c while closed.
-    #[inline(always)]
+    #[inline]
     pub fn damping(&self) -> f64 {
         self.c
     }
 
     /// The closure `δ − gap` at the deformation `d` from the static one.
-    #[inline(always)]
+    #[inline]
     pub fn closure(&self, d: f64) -> f64 {
         self.d0 + d - self.gap
     }
@@ -286,7 +298,7 @@ impl ContactForce {
     /// The force's change from the static one, at the deformation `d` from
     /// the static deformation and rate `v`: what the accelerations take
     /// about the static equilibrium (`preload`).
-    #[inline(always)]
+    #[inline]
     pub fn force_change(&self, d: f64, v: f64, side: f64) -> f64 {
         if self.d0 == 0.0 {
             return self.at_side(d, v, side).force;
@@ -295,7 +307,7 @@ impl ContactForce {
     }
 
     /// `∂f/∂key` at `at` (the law evaluated at a state).
-    #[inline(always)]
+    #[inline]
     pub fn derivative(&self, at: &ContactAt, key: ContactKey) -> f64 {
         if at.force == 0.0 {
             return 0.0;
@@ -341,22 +353,8 @@ impl ContactState {
             gap: 0.0,
             d0: 0.0,
         },
-        at: ContactAt {
-            force: 0.0,
-            slope: 0.0,
-            damping: 0.0,
-            s: 0.0,
-            v: 0.0,
-            spring: 0.0,
-        },
-        rest: ContactAt {
-            force: 0.0,
-            slope: 0.0,
-            damping: 0.0,
-            s: 0.0,
-            v: 0.0,
-            spring: 0.0,
-        },
+        at: ContactAt::ZERO,
+        rest: ContactAt::ZERO,
     };
 
     /// The law `law` at the deformation `d` from the static one and the
@@ -368,29 +366,36 @@ impl ContactState {
         (d, side): (f64, f64),
         rate: impl FnOnce() -> f64,
     ) -> ContactState {
-        let Some(law) = law else {
-            return ContactState::NONE;
-        };
+        match law {
+            Some(law) => ContactState::at(law, (d, side), rate()),
+            None => ContactState::NONE,
+        }
+    }
+
+    /// [`Self::of`] with a law, out of line: the kernels that inline
+    /// [`Self::of`] are compiled once per size and kernel.
+    #[inline(never)]
+    fn at(law: &ContactForce, (d, side): (f64, f64), v: f64) -> ContactState {
         let rest = match law.d0 == 0.0 {
             true => ContactAt::default(),
             false => law.at(law.d0, 0.0),
         };
         ContactState {
             law: *law,
-            at: law.at_side(law.d0 + d, rate(), side),
+            at: law.at_side(law.d0 + d, v, side),
             rest,
         }
     }
 
     /// The slope's change from the static one (which multiplies
     /// `B ∂q₀/∂x` about an equilibrium).
-    #[inline(always)]
+    #[inline]
     pub fn slope_change(&self) -> f64 {
         self.at.slope - self.rest.slope
     }
 
     /// `∂f/∂key` as its change from the static one.
-    #[inline(always)]
+    #[inline]
     pub fn derivative(&self, key: ContactKey) -> f64 {
         self.law.derivative(&self.at, key) - self.law.derivative(&self.rest, key)
     }
