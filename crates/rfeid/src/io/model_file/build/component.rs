@@ -74,7 +74,7 @@ fn law_name(ctx: &Ctx, comp: &Comp, laws: &[LawReader<Box<ModelFileError>>]) -> 
     }
 }
 
-/// `linear, power, friction or bouc-wen`.
+/// `linear, power, friction, bouc-wen or contact`.
 fn law_list<E>(laws: &[LawReader<E>]) -> String {
     let names: Vec<&str> = laws.iter().map(|l| l.name).collect();
     match names.split_last() {
