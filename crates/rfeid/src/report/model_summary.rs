@@ -65,10 +65,14 @@ fn components(model: &Model, e: &crate::model::Element) -> String {
                     value(model, &key.value, unit)
                 );
             }
-            format!(
-                "<b>{name}</b>: {text}; c = {}",
-                value(model, &c.damping, c_unit)
-            )
+            // A law that takes c itself (a contact) lists it among its keys.
+            match law.keys().iter().any(|k| k.name == "c") || law.name() == "contact" {
+                true => format!("<b>{name}</b>: {text}"),
+                false => format!(
+                    "<b>{name}</b>: {text}; c = {}",
+                    value(model, &c.damping, c_unit)
+                ),
+            }
         })
         .collect::<Vec<_>>()
         .join("<br>")

@@ -228,7 +228,7 @@ pub fn contacts_at_rest(sys: &System<'_>) -> Result<Vec<ContactAtRest>, Simulati
         .zip(sys.contacts_at(&q))
         .map(|(c, (row, at))| ContactAtRest {
             component: c.comp,
-            closure: c.law.closure(row.dot(&q)),
+            closure: c.law.closure_at(row.dot(&q)),
             force: at.force,
         })
         .collect())

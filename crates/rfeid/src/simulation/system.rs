@@ -237,6 +237,7 @@ impl<'a> System<'a> {
         }
         for row in &mut self.contacts {
             row.law.d0 = self.structure.components[row.comp].row.dot(q0);
+            row.law.about_rest = true;
         }
         self.base.fill(0.0);
         self.static_dq = dq0;

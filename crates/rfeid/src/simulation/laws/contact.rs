@@ -157,6 +157,10 @@ pub(crate) struct ContactForce {
     gap: f64,
     /// The static deformation δ₀ the run moves about (0 without one).
     pub d0: f64,
+    /// Whether the run moves about a static state (`System::set_reference`),
+    /// whose force the accelerations take as zero; δ₀ may be 0 there and
+    /// the force not (a preload balanced at q = 0).
+    pub about_rest: bool,
 }
 
 /// A contact law evaluated at one deformation and rate.
@@ -201,6 +205,7 @@ impl ContactForce {
             c: law.c.eval(p),
             gap: law.gap.eval(p),
             d0: 0.0,
+            about_rest: false,
         }
     }
 
@@ -289,6 +294,16 @@ impl ContactForce {
         self.c
     }
 
+    /// The exponent of the spring (1 for a linear one).
+    pub fn exponent(&self) -> f64 {
+        self.spring.m
+    }
+
+    /// The closure `δ − gap` at the absolute deformation `d`.
+    pub fn closure_at(&self, d: f64) -> f64 {
+        d - self.gap
+    }
+
     /// The closure `δ − gap` at the deformation `d` from the static one.
     #[inline]
     pub fn closure(&self, d: f64) -> f64 {
@@ -300,7 +315,7 @@ impl ContactForce {
     /// about the static equilibrium (`preload`).
     #[inline]
     pub fn force_change(&self, d: f64, v: f64, side: f64) -> f64 {
-        if self.d0 == 0.0 {
+        if !self.about_rest {
             return self.at_side(d, v, side).force;
         }
         self.at_side(self.d0 + d, v, side).force - self.at(self.d0, 0.0).force
@@ -352,6 +367,7 @@ impl ContactState {
             c: 0.0,
             gap: 0.0,
             d0: 0.0,
+            about_rest: false,
         },
         at: ContactAt::ZERO,
         rest: ContactAt::ZERO,
@@ -376,9 +392,9 @@ impl ContactState {
     /// [`Self::of`] are compiled once per size and kernel.
     #[inline(never)]
     fn at(law: &ContactForce, (d, side): (f64, f64), v: f64) -> ContactState {
-        let rest = match law.d0 == 0.0 {
-            true => ContactAt::default(),
-            false => law.at(law.d0, 0.0),
+        let rest = match law.about_rest {
+            true => law.at(law.d0, 0.0),
+            false => ContactAt::default(),
         };
         ContactState {
             law: *law,
