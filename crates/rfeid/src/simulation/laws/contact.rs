@@ -122,6 +122,11 @@ impl ReadLaw for Contact {
                 let message = "a contact's spring is k, or a and m, not both".to_string();
                 return Err(keys.refuse(other, message));
             }
+            (true, false) if keys.given("reference") => {
+                let message =
+                    "'reference' belongs to a power-law contact (a and m), not to k".into();
+                return Err(keys.refuse("reference", message));
+            }
             (true, false) => ContactSpring::Linear(keys.required("k", dims.stiffness)?),
             (false, true) => match Power::read(keys)? {
                 Law::Power(p) => ContactSpring::Power(p),

@@ -125,7 +125,9 @@ fn stray_key(
     laws: &[LawReader<Box<ModelFileError>>],
 ) -> Box<ModelFileError> {
     if laws.iter().any(|l| l.keys.contains(&key)) {
-        let takes: Vec<&str> = own.iter().chain(&COMMON_KEYS[1..]).copied().collect();
+        let mut takes: Vec<&str> = own.to_vec();
+        // `c`, unless the law takes it among its own (a contact).
+        takes.extend(COMMON_KEYS[1..].iter().filter(|k| !own.contains(k)));
         let message = format!(
             "'{key}' does not belong to the {name} law (it takes {})",
             takes.join(", ")
