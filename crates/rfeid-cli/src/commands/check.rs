@@ -196,7 +196,6 @@ fn bodies_table(model: &Model) -> String {
 /// The elements: what they join and their components' laws.
 fn elements_table(model: &Model) -> String {
     let value = |v: &Value| value_text(model, v);
-    let laws = rfeid::simulation::laws::readers::<()>();
     let rows: Vec<Vec<String>> = model
         .elements
         .iter()
@@ -210,7 +209,7 @@ fn elements_table(model: &Model) -> String {
                 .iter()
                 .map(|c| {
                     let law = c.law.joint();
-                    let name = law.name();
+                    let owns_damping = law.owns_damping();
                     let keys = law
                         .keys()
                         .into_iter()
@@ -222,7 +221,7 @@ fn elements_table(model: &Model) -> String {
                             .collect(),
                     };
                     // A law that takes c itself (a contact) shows it among its keys.
-                    match laws.iter().any(|r| r.name == name && r.keys.contains(&"c")) {
+                    match owns_damping {
                         true => format!("{}[{law}]", COMPONENT_NAMES[c.dof]),
                         false => {
                             format!("{}[{law} c={}]", COMPONENT_NAMES[c.dof], value(&c.damping))

@@ -66,7 +66,7 @@ fn components(model: &Model, e: &crate::model::Element) -> String {
                 );
             }
             // A law that takes c itself (a contact) lists it among its keys.
-            match law.keys().iter().any(|k| k.name == "c") || law.name() == "contact" {
+            match law.owns_damping() {
                 true => format!("<b>{name}</b>: {text}"),
                 false => format!(
                     "<b>{name}</b>: {text}; c = {}",

@@ -315,9 +315,10 @@ fn explicit(sys: &System<'_>, usage: Usage, q: &[f64], rhs: &mut DMatrix<f64>, c
             add(&comps[i].row, force);
         }
         Usage::Contact(i, key) => {
-            let Some(row) = sys.contacts.iter().find(|c| c.comp == i) else {
+            let Some(j) = sys.comps[i].contact else {
                 return;
             };
+            let row = &sys.contacts[j as usize];
             let at = row.law.at(comps[i].row.dot(q), 0.0);
             add(&comps[i].row, row.law.derivative(&at, key));
         }

@@ -80,16 +80,19 @@ pub(crate) fn contact_rows(
     components: &[ComponentRow],
     p: &[f64],
 ) -> Result<Vec<ContactRow>, SimulationError> {
-    law_rows(model, components, |law, element| match law {
-        Law::Contact(c) => Some(ContactForce::new(c, p)).map(|law| match law.exponent() {
-            // A power law below m = 1 has an unbounded slope at closing.
+    law_rows(model, components, |law, element| {
+        let Law::Contact(c) = law else {
+            return None;
+        };
+        let law = ContactForce::new(c, p);
+        // A power law below m = 1 has an unbounded slope at closing.
+        Some(match law.exponent() {
             m if m >= 1.0 => Ok(law),
             m => Err(SimulationError::BadExponent {
                 element: element.to_owned(),
                 value: m,
             }),
-        }),
-        _ => None,
+        })
     })
 }
 

@@ -103,6 +103,9 @@ impl JointLaw for Contact {
     fn switches(&self) -> bool {
         true
     }
+    fn owns_damping(&self) -> bool {
+        true
+    }
 }
 
 impl ReadLaw for Contact {

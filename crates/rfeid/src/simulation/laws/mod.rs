@@ -121,6 +121,13 @@ pub trait JointLaw {
     fn switches(&self) -> bool {
         false
     }
+
+    /// Whether the law holds the component's damping `c` among its own keys
+    /// (a contact's acts only while closed), the component then having none
+    /// of its own.
+    fn owns_damping(&self) -> bool {
+        false
+    }
 }
 
 /// One key of a law: its name in a model file, its symbol in a report, its
