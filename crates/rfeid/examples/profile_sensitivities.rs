@@ -1,5 +1,6 @@
 //! Runs the knee–column simulation with its 16 sensitivities `REPS` times
-//! (default 10; `PLAIN=1` for the run without sensitivities) and prints the
+//! (default 10; `PLAIN=1` for the run without sensitivities, `COLUMNS=k`
+//! for the first k of them only) and prints the
 //! mean time: a target for a profiler (`valgrind --tool=callgrind`).
 //! `MODEL=path/to/model.toml` profiles another model (with the
 //! sensitivities to its identified parameters).
@@ -15,7 +16,10 @@ fn main() {
     );
     let model = load_model(&path).expect("model");
     let sim = Simulator::new(&model);
-    let (params, wrt) = (model.nominal(), model.identified());
+    let (params, mut wrt) = (model.nominal(), model.identified());
+    if let Some(k) = std::env::var("COLUMNS").ok().and_then(|v| v.parse().ok()) {
+        wrt.truncate(k);
+    }
     let (mut ws, mut out) = (Workspace::default(), sim.response_buffer());
     let mut sens = Sensitivities {
         wrt: Vec::new(),

@@ -37,16 +37,29 @@ pub(crate) struct Entries {
     b: [f64; 12],
     g: [f64; 12],
     len: usize,
+    /// Whether the component adds `k B Y_q + c B Y_v` alone: a linear
+    /// spring and damper that no identified parameter enters, with no
+    /// static columns. Its slopes are then its constant k and c, and the
+    /// kernel skips its deformation and laws ([`linear_columns`]).
+    linear: bool,
 }
 
 impl Entries {
-    /// The entries of `comp` for rows `width` long.
-    pub fn new(comp: &SparseComp, width: usize) -> Entries {
+    /// The entries of `comp` for rows `width` long; `usages` and `statics`
+    /// are the component's (see [`sparse_tangent`]).
+    pub fn new(
+        comp: &SparseComp,
+        width: usize,
+        usages: &[(usize, Usage)],
+        statics: &[f64],
+    ) -> Entries {
+        let laws = comp.power.is_some() || comp.friction.is_some() || comp.contact.is_some();
         let mut e = Entries {
             at: [0; 12],
             b: [0.0; 12],
             g: [0.0; 12],
             len: 0,
+            linear: !laws && usages.is_empty() && statics.is_empty(),
         };
         for j in (0..12).filter(|&j| comp.b[j] != 0.0) {
             e.at[e.len] = (comp.off[j / 6] + j % 6) * width;
@@ -90,6 +103,19 @@ pub(crate) fn sparse_tangent<M: Madd>(
     dacc.fill(0.0);
     let per_component = usages.iter().zip(statics).zip(entries);
     for (comp, ((usages, statics), entries)) in sys.comps.iter().zip(per_component) {
+        if entries.linear {
+            // The same operations as below with no law, no explicit
+            // dependence and no static change, so the same sums.
+            let mut c0 = 0;
+            while c0 + 8 <= width {
+                linear_columns::<M, 8>(entries, (comp.k, comp.c), (yq, yv), c0, dacc);
+                c0 += 8;
+            }
+            if c0 < width {
+                linear_columns::<M, 4>(entries, (comp.k, comp.c), (yq, yv), c0, dacc);
+            }
+            continue;
+        }
         let d = comp.rate::<M>(q);
         let power = comp.power(&sys.powers);
         let (slope, change) = match power {
@@ -198,6 +224,39 @@ fn component_columns<M: Madd, const W: usize>(
     }
     for (at, b, _) in entries.iter() {
         let (bs, bc) = (slope * b, damp * b);
+        let at = at + c0;
+        let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
+        for l in 0..W {
+            s[l] = M::madd(bs, xq[l], s[l]);
+            t[l] = M::madd(bc, xv[l], t[l]);
+        }
+    }
+    for l in 0..W {
+        s[l] += t[l];
+    }
+    for (at, _, g) in entries.iter() {
+        let at = at + c0;
+        let out = &mut dacc[at..at + W];
+        for l in 0..W {
+            out[l] = M::madd(g, s[l], out[l]);
+        }
+    }
+}
+
+/// Columns `c0..c0 + W` of a linear component's contribution to `dacc`,
+/// `g (k B Y_q + c B Y_v)` ([`Entries::linear`]): [`component_columns`]
+/// without the explicit terms, which are zero for it.
+#[inline(always)]
+fn linear_columns<M: Madd, const W: usize>(
+    entries: &Entries,
+    (k, c): (f64, f64),
+    (yq, yv): (&[f64], &[f64]),
+    c0: usize,
+    dacc: &mut [f64],
+) {
+    let (mut s, mut t) = ([0.0; W], [0.0; W]);
+    for (at, b, _) in entries.iter() {
+        let (bs, bc) = (k * b, c * b);
         let at = at + c0;
         let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
         for l in 0..W {

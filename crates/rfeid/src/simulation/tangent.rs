@@ -144,7 +144,7 @@ impl Tangent {
         usages: Vec<Vec<(usize, Usage)>>,
         others: Vec<(usize, Usage)>,
     ) -> Tangent {
-        let component_statics = sys
+        let component_statics: Vec<Vec<f64>> = sys
             .structure
             .components
             .iter()
@@ -154,6 +154,10 @@ impl Tangent {
                 component_static_columns(sys, c, moves, r, width)
             })
             .collect();
+        let component_entries = (sys.comps.iter().zip(&usages))
+            .zip(&component_statics)
+            .map(|((c, u), s)| Entries::new(c, width, u, s))
+            .collect();
         Tangent {
             width,
             active: Vec::new(),
@@ -161,7 +165,7 @@ impl Tangent {
             sparse: true,
             component_usages: usages,
             component_statics,
-            component_entries: sys.comps.iter().map(|c| Entries::new(c, width)).collect(),
+            component_entries,
             hysteresis: Vec::new(),
             contacts: Vec::new(),
         }
@@ -262,14 +266,8 @@ impl Tangent {
             }
         }
 
-        // J Y + E, row by row.
-        for (k, (row, out)) in jac
-            .chunks_exact(2 * n)
-            .zip(dacc.chunks_exact_mut(width))
-            .enumerate()
-        {
-            times_columns::<M>(row, sy, (et, n, k), width, out);
-        }
+        let na = D::reach(sys.active, n);
+        jacobian_times::<M>(jac, sy, et, (n, na, width), dacc);
         self.add_others(sys, (t, before), acc, dacc);
     }
 
@@ -491,29 +489,59 @@ fn dot<M: Madd>(a: &[f64], x: &[f64]) -> f64 {
     s + t
 }
 
-/// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a (even length) and a
-/// matrix X with rows `width` long (a multiple of four), sixteen (then
-/// eight, four) columns at a time; `(et, n, k)` is Eᵀ with its row length
-/// and the row k of E wanted.
+/// `dacc = J Y + E` (eq. 27–28), row by row, over the first `na` coordinates,
+/// those the motion reaches (`System::active`): the other rows of J, E and
+/// Y are zero, and so are their columns of J in the rows reached. The
+/// reach is rounded up to whole pairs of J's columns, so that every term
+/// meets the accumulator it meets in the whole row, and a skipped term would
+/// add an exact zero: the same sums as over whole rows.
+#[inline(always)]
+fn jacobian_times<M: Madd>(
+    jac: &[f64],
+    sy: &[f64],
+    et: &[f64],
+    (n, na, width): (usize, usize, usize),
+    dacc: &mut [f64],
+) {
+    let pairs = (na + na % 2).min(n);
+    for (k, (row, out)) in jac
+        .chunks_exact(2 * n)
+        .zip(dacc.chunks_exact_mut(width))
+        .enumerate()
+        .take(na)
+    {
+        let segments = match pairs == n {
+            true => [(row, sy), (&row[..0], &sy[..0])],
+            false => [(&row[..pairs], sy), (&row[n..n + pairs], &sy[n * width..])],
+        };
+        times_columns::<M>(&segments, (et, n, k), width, out);
+    }
+    dacc[na * width..].fill(0.0);
+}
+
+/// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a and a matrix X with
+/// rows `width` long (a multiple of four), sixteen (then eight, four)
+/// columns at a time; a and X come in `segments` `(a_s, X_s)` (each a_s of
+/// even length, X_s its rows), summed in turn; `(et, n, k)` is Eᵀ with its
+/// row length and the row k of E wanted.
 #[inline(always)]
 fn times_columns<M: Madd>(
-    a: &[f64],
-    x: &[f64],
+    segments: &[(&[f64], &[f64]); 2],
     e: (&[f64], usize, usize),
     width: usize,
     out: &mut [f64],
 ) {
     let mut c0 = 0;
     while c0 + 16 <= width {
-        row_times::<M, 16>(a, x, e, width, c0, out);
+        row_times::<M, 16>(segments, e, width, c0, out);
         c0 += 16;
     }
     if c0 + 8 <= width {
-        row_times::<M, 8>(a, x, e, width, c0, out);
+        row_times::<M, 8>(segments, e, width, c0, out);
         c0 += 8;
     }
     if c0 < width {
-        row_times::<M, 4>(a, x, e, width, c0, out);
+        row_times::<M, 4>(segments, e, width, c0, out);
     }
 }
 
@@ -521,17 +549,18 @@ fn times_columns<M: Madd>(
 /// accumulators so that the loop is not latency-bound.
 #[inline(always)]
 fn row_times<M: Madd, const W: usize>(
-    a: &[f64],
-    x: &[f64],
+    segments: &[(&[f64], &[f64]); 2],
     (et, n, k): (&[f64], usize, usize),
     width: usize,
     c0: usize,
     out: &mut [f64],
 ) {
-    // Every row read below (a.len() of them) lies inside x.
-    let rows_fit = a.len().checked_mul(width).is_some_and(|len| len <= x.len());
+    // Every row read below (a.len() of each segment) lies inside its x.
+    let rows_fit = |(a, x): &(&[f64], &[f64])| {
+        a.len() % 2 == 0 && a.len().checked_mul(width).is_some_and(|len| len <= x.len())
+    };
     let e_fits = (c0 + W).checked_mul(n).is_some_and(|len| len <= et.len());
-    assert!(c0 + W <= width && a.len() % 2 == 0 && rows_fit && k < n && e_fits);
+    assert!(c0 + W <= width && segments.iter().all(rows_fit) && k < n && e_fits);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
     // An index loop: written with `iter_mut().enumerate()` this compiles to
     // 10 % more instructions for the whole run (callgrind).
@@ -540,16 +569,19 @@ fn row_times<M: Madd, const W: usize>(
         // SAFETY: (c0 + c)·n + k < (c0 + W)·n ≤ et.len() (assert above).
         s[c] = unsafe { *et.get_unchecked((c0 + c) * n + k) };
     }
-    for (j, c) in a.chunks_exact(2).enumerate() {
-        let r0 = 2 * j * width + c0;
-        let r1 = r0 + width;
-        // SAFETY: r1 + W ≤ (2j + 2)·width ≤ a.len()·width ≤ x.len() (assert
-        // above, with c0 + W ≤ width; the product does not overflow). Checked indexing here costs a third
-        // of the loop's instructions.
-        let (x0, x1) = unsafe { (x.get_unchecked(r0..r0 + W), x.get_unchecked(r1..r1 + W)) };
-        for q in 0..W {
-            s[q] = M::madd(c[0], x0[q], s[q]);
-            t[q] = M::madd(c[1], x1[q], t[q]);
+    for (a, x) in segments {
+        for (j, c) in a.chunks_exact(2).enumerate() {
+            let r0 = 2 * j * width + c0;
+            let r1 = r0 + width;
+            // SAFETY: r1 + W ≤ (2j + 2)·width ≤ a.len()·width ≤ x.len()
+            // (assert above, with c0 + W ≤ width; the product does not
+            // overflow). Checked indexing here costs a third of the loop's
+            // instructions.
+            let (x0, x1) = unsafe { (x.get_unchecked(r0..r0 + W), x.get_unchecked(r1..r1 + W)) };
+            for q in 0..W {
+                s[q] = M::madd(c[0], x0[q], s[q]);
+                t[q] = M::madd(c[1], x1[q], t[q]);
+            }
         }
     }
     let o = &mut out[c0..c0 + W];
