@@ -249,7 +249,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             acc,
             &ws.sy_stage,
             dv,
-            &mut ws.scratch,
+            (&mut ws.scratch, &mut ws.amplitude_segments),
         );
         let nz = ws.z.y.len();
         if nz > 0 {
@@ -474,7 +474,7 @@ fn set_branches(z: &mut InternalStates, (from, to): (f64, f64)) {
 }
 
 /// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, thirty-two (then
-/// eight, one) elements at a time with the sum over the stages in registers
+/// eight, four, one) elements at a time with the sum over the stages in registers
 /// (one pass over the output, not one per stage).
 #[inline(always)]
 fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &mut [f64]) {
@@ -503,6 +503,12 @@ fn combine_range<M: Madd>(
     while e0 + 8 <= to {
         unsafe { combine_chunk::<M, 8>(y, k, a, h, len, e0, out) };
         e0 += 8;
+    }
+    // Four at a time: the short ranges of a small reach (one coordinate's
+    // sensitivities are a row of four).
+    while e0 + 4 <= to {
+        unsafe { combine_chunk::<M, 4>(y, k, a, h, len, e0, out) };
+        e0 += 4;
     }
     // The remainder, one element at a time.
     for e in e0..to {
@@ -558,6 +564,10 @@ fn accumulate_range<M: Madd>(
     while e0 + 8 <= to {
         unsafe { accumulate_chunk::<M, 8>(y, k, a, h, len, e0) };
         e0 += 8;
+    }
+    while e0 + 4 <= to {
+        unsafe { accumulate_chunk::<M, 4>(y, k, a, h, len, e0) };
+        e0 += 4;
     }
     for e in e0..to {
         unsafe { accumulate_chunk::<M, 1>(y, k, a, h, len, e) };

@@ -33,7 +33,7 @@ use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
 use super::structure::{ComponentRow, HysteresisKey, Row, Structure, Usage};
 use super::system::System;
-use crate::model::{Law, PowerSpring};
+use crate::model::{Law, PowerSpring, Segment};
 
 /// A component row that enters the sensitivities beyond the dense linear
 /// part: a power-law spring, or a component holding an identified parameter.
@@ -196,8 +196,10 @@ impl Tangent {
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
     /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows),
     /// each contact on its side in `contact_sides` ([`System::accel_with`]).
-    /// `scratch` has [`Self::scratch_len`]. As for [`System::accel_with`],
-    /// a fixed size D must not be given an element-by-element system.
+    /// `scratch` has [`Self::scratch_len`]; `segments`, one per term of the
+    /// excitations, keeps the amplitude terms' table segments from call to
+    /// call. As for [`System::accel_with`], a fixed size D must not be
+    /// given an element-by-element system.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn apply<M: Madd, D: Dim>(
@@ -208,7 +210,7 @@ impl Tangent {
         acc: &[f64],
         sy: &[f64],
         dacc: &mut [f64],
-        scratch: &mut [f64],
+        (scratch, segments): (&mut [f64], &mut [Segment]),
     ) {
         let n = D::n(sys.n);
         let width = self.width;
@@ -222,7 +224,7 @@ impl Tangent {
                 &self.component_entries[..],
             );
             sparse_tangent::<M>(sys, columns, (q, v, contact_sides), sy, width, dacc);
-            self.add_others(sys, (t, before), acc, dacc);
+            self.add_others(sys, (t, before), acc, (dacc, segments));
             return;
         }
         let (jac, et) = scratch.split_at_mut(2 * n * n);
@@ -268,17 +270,18 @@ impl Tangent {
 
         let na = D::reach(sys.active, n);
         jacobian_times::<M>(jac, sy, et, (n, na, width), dacc);
-        self.add_others(sys, (t, before), acc, dacc);
+        self.add_others(sys, (t, before), acc, (dacc, segments));
     }
 
-    /// Adds the mass, inertia and load terms of E to `dacc`.
+    /// Adds the mass, inertia and load terms of E to `dacc`; an amplitude's
+    /// term is its shape, evaluated with the segment kept in `segments`.
     #[inline(always)]
     fn add_others(
         &self,
         sys: &System<'_>,
         (t, before): (f64, bool),
         acc: &[f64],
-        dacc: &mut [f64],
+        (dacc, segments): (&mut [f64], &mut [Segment]),
     ) {
         let width = self.width;
         for &(col, usage) in &self.others {
@@ -297,9 +300,9 @@ impl Tangent {
                     dacc[cell(k)] -= acc[k] * sys.minv[k];
                 }
                 Usage::Amplitude(e, j) => {
-                    let s = sys.model.excitations[e].signal.terms[j]
-                        .shape
-                        .at_side(t, before);
+                    // The terms of the signals before e come first.
+                    let at = sys.signals[..e].iter().map(|s| s.terms()).sum::<usize>() + j;
+                    let s = sys.signals[e].shape_kept(j, t, before, &mut segments[at]);
                     if s != 0.0 {
                         for (k, l) in sys.minv_loads[e].iter().enumerate() {
                             dacc[cell(k)] += s * l;
