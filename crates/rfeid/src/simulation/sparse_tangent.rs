@@ -203,9 +203,8 @@ fn component_columns<M: Madd, const W: usize>(
     c0: usize,
     dacc: &mut [f64],
 ) {
-    // s = ∂f/∂x (explicit), then + slope B Y_q + c B Y_v, in two chains.
+    // s = ∂f/∂x (explicit), then + slope B Y_q + c B Y_v ([`add_columns`]).
     let mut s = [0.0; W];
-    let mut t = [0.0; W];
     if e.change != 0.0 {
         for (s, w) in s.iter_mut().zip(&e.statics[c0..c0 + W]) {
             *s = e.change * w;
@@ -222,25 +221,7 @@ fn component_columns<M: Madd, const W: usize>(
             s[col - c0] += force_derivative(usage, laws, &pre, d, || comp.rate::<M>(v));
         }
     }
-    for (at, b, _) in entries.iter() {
-        let (bs, bc) = (slope * b, damp * b);
-        let at = at + c0;
-        let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
-        for l in 0..W {
-            s[l] = M::madd(bs, xq[l], s[l]);
-            t[l] = M::madd(bc, xv[l], t[l]);
-        }
-    }
-    for l in 0..W {
-        s[l] += t[l];
-    }
-    for (at, _, g) in entries.iter() {
-        let at = at + c0;
-        let out = &mut dacc[at..at + W];
-        for l in 0..W {
-            out[l] = M::madd(g, s[l], out[l]);
-        }
-    }
+    add_columns::<M, W>(entries, (slope, damp), (yq, yv), (c0, s), dacc);
 }
 
 /// Columns `c0..c0 + W` of a linear component's contribution to `dacc`,
@@ -254,9 +235,23 @@ fn linear_columns<M: Madd, const W: usize>(
     c0: usize,
     dacc: &mut [f64],
 ) {
-    let (mut s, mut t) = ([0.0; W], [0.0; W]);
+    add_columns::<M, W>(entries, (k, c), (yq, yv), (c0, [0.0; W]), dacc);
+}
+
+/// `dacc += g (s + slope B Y_q + damp B Y_v)` for columns `c0..c0 + W`,
+/// with `s` the explicit terms: the products in two chains, one per half
+/// of Y, added at the end.
+#[inline(always)]
+fn add_columns<M: Madd, const W: usize>(
+    entries: &Entries,
+    (slope, damp): (f64, f64),
+    (yq, yv): (&[f64], &[f64]),
+    (c0, mut s): (usize, [f64; W]),
+    dacc: &mut [f64],
+) {
+    let mut t = [0.0; W];
     for (at, b, _) in entries.iter() {
-        let (bs, bc) = (k * b, c * b);
+        let (bs, bc) = (slope * b, damp * b);
         let at = at + c0;
         let (xq, xv) = (&yq[at..at + W], &yv[at..at + W]);
         for l in 0..W {

@@ -249,7 +249,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             acc,
             &ws.sy_stage,
             dv,
-            (&mut ws.scratch, &mut ws.amplitude_segments),
+            &mut ws.scratch,
         );
         let nz = ws.z.y.len();
         if nz > 0 {
@@ -301,20 +301,17 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// and `sy += h Σ b_i ks_i`.
     #[inline(always)]
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
-        let (n, w) = (D::n(self.sys.n), self.tangent.width);
-        // The rows of the coordinates the motion reaches (the others stay
-        // at zero, as the state's do).
-        let rows = (n * w, D::reach(self.sys.active, n) * w);
+        let len = 2 * D::n(self.sys.n) * self.tangent.width;
         let len_z = ws.z.y.len() * self.tangent.width;
         for i in 1..self.tab.stages() {
-            combine_state::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, rows, &mut ws.sy_stage);
+            combine::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
             if len_z > 0 {
                 let z = &mut ws.z;
                 combine::<M>(&z.sy, &z.ks, &self.a_nz[i], h, len_z, &mut z.sy_stage);
             }
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
         }
-        accumulate_state::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, rows);
+        accumulate::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
         if len_z > 0 {
             accumulate::<M>(&mut ws.z.sy, &ws.z.ks, &self.b_nz, h, len_z);
         }
@@ -474,7 +471,7 @@ fn set_branches(z: &mut InternalStates, (from, to): (f64, f64)) {
 }
 
 /// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, thirty-two (then
-/// eight, four, one) elements at a time with the sum over the stages in registers
+/// eight, one) elements at a time with the sum over the stages in registers
 /// (one pass over the output, not one per stage).
 #[inline(always)]
 fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &mut [f64]) {
@@ -504,12 +501,6 @@ fn combine_range<M: Madd>(
         unsafe { combine_chunk::<M, 8>(y, k, a, h, len, e0, out) };
         e0 += 8;
     }
-    // Four at a time: the short ranges of a small reach (one coordinate's
-    // sensitivities are a row of four).
-    while e0 + 4 <= to {
-        unsafe { combine_chunk::<M, 4>(y, k, a, h, len, e0, out) };
-        e0 += 4;
-    }
     // The remainder, one element at a time.
     for e in e0..to {
         unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
@@ -519,8 +510,7 @@ fn combine_range<M: Madd>(
 /// `out = y + h Σ_j a_j k_j` for the state `[q; q̇]` (n each) over the
 /// coordinates the motion reaches (the first `reach` of each half, see
 /// `System::active`); the others stay at zero in y and k, and are left as
-/// they are (zero) in `out`. The sensitivities `[Y_q; Y_v]` pass n and
-/// `reach` in elements (times the row length).
+/// they are (zero) in `out`.
 #[inline(always)]
 fn combine_state<M: Madd>(
     y: &[f64],
@@ -541,53 +531,19 @@ fn combine_state<M: Madd>(
 /// `y += h Σ_j a_j k_j`, like [`combine`].
 #[inline(always)]
 fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &Coefs, h: f64, len: usize) {
-    accumulate_range::<M>(y, k, a, h, len, (0, len));
-}
-
-/// [`accumulate`] over the elements `from..to` of stages `len` long only.
-#[inline(always)]
-fn accumulate_range<M: Madd>(
-    y: &mut [f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    len: usize,
-    (from, to): (usize, usize),
-) {
-    assert!(stages_fit(k, a, len) && to <= len && y.len() >= to);
-    let mut e0 = from;
-    // SAFETY: as in `combine_range`.
-    while e0 + 32 <= to {
+    assert!(stages_fit(k, a, len));
+    let mut e0 = 0;
+    // SAFETY: as in `combine`.
+    while e0 + 32 <= len {
         unsafe { accumulate_chunk::<M, 32>(y, k, a, h, len, e0) };
         e0 += 32;
     }
-    while e0 + 8 <= to {
+    while e0 + 8 <= len {
         unsafe { accumulate_chunk::<M, 8>(y, k, a, h, len, e0) };
         e0 += 8;
     }
-    while e0 + 4 <= to {
-        unsafe { accumulate_chunk::<M, 4>(y, k, a, h, len, e0) };
-        e0 += 4;
-    }
-    for e in e0..to {
+    for e in e0..len {
         unsafe { accumulate_chunk::<M, 1>(y, k, a, h, len, e) };
-    }
-}
-
-/// [`accumulate`] over the reached coordinates, as [`combine_state`].
-#[inline(always)]
-fn accumulate_state<M: Madd>(
-    y: &mut [f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    (n, reach): (usize, usize),
-) {
-    if reach == n {
-        accumulate::<M>(y, k, a, h, 2 * n);
-    } else {
-        accumulate_range::<M>(y, k, a, h, 2 * n, (0, reach));
-        accumulate_range::<M>(y, k, a, h, 2 * n, (n, n + reach));
     }
 }
 

@@ -33,7 +33,7 @@ use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
 use super::structure::{ComponentRow, HysteresisKey, Row, Structure, Usage};
 use super::system::System;
-use crate::model::{Law, PowerSpring, Segment};
+use crate::model::{Law, PowerSpring};
 
 /// A component row that enters the sensitivities beyond the dense linear
 /// part: a power-law spring, or a component holding an identified parameter.
@@ -196,10 +196,8 @@ impl Tangent {
     /// `dacc = ∂q̈/∂x` (n rows of [`Self::width`]) at time t, state `y`
     /// (2n) with acceleration `acc` (n), for sensitivities `sy` (2n rows),
     /// each contact on its side in `contact_sides` ([`System::accel_with`]).
-    /// `scratch` has [`Self::scratch_len`]; `segments`, one per term of the
-    /// excitations, keeps the amplitude terms' table segments from call to
-    /// call. As for [`System::accel_with`], a fixed size D must not be
-    /// given an element-by-element system.
+    /// `scratch` has [`Self::scratch_len`]. As for [`System::accel_with`],
+    /// a fixed size D must not be given an element-by-element system.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub fn apply<M: Madd, D: Dim>(
@@ -210,7 +208,7 @@ impl Tangent {
         acc: &[f64],
         sy: &[f64],
         dacc: &mut [f64],
-        (scratch, segments): (&mut [f64], &mut [Segment]),
+        scratch: &mut [f64],
     ) {
         let n = D::n(sys.n);
         let width = self.width;
@@ -224,7 +222,7 @@ impl Tangent {
                 &self.component_entries[..],
             );
             sparse_tangent::<M>(sys, columns, (q, v, contact_sides), sy, width, dacc);
-            self.add_others(sys, (t, before), acc, (dacc, segments));
+            self.add_others(sys, (t, before), acc, dacc);
             return;
         }
         let (jac, et) = scratch.split_at_mut(2 * n * n);
@@ -268,20 +266,25 @@ impl Tangent {
             }
         }
 
-        let na = D::reach(sys.active, n);
-        jacobian_times::<M>(jac, sy, et, (n, na, width), dacc);
-        self.add_others(sys, (t, before), acc, (dacc, segments));
+        // J Y + E, row by row.
+        for (k, (row, out)) in jac
+            .chunks_exact(2 * n)
+            .zip(dacc.chunks_exact_mut(width))
+            .enumerate()
+        {
+            times_columns::<M>(row, sy, (et, n, k), width, out);
+        }
+        self.add_others(sys, (t, before), acc, dacc);
     }
 
-    /// Adds the mass, inertia and load terms of E to `dacc`; an amplitude's
-    /// term is its shape, evaluated with the segment kept in `segments`.
+    /// Adds the mass, inertia and load terms of E to `dacc`.
     #[inline(always)]
     fn add_others(
         &self,
         sys: &System<'_>,
         (t, before): (f64, bool),
         acc: &[f64],
-        (dacc, segments): (&mut [f64], &mut [Segment]),
+        dacc: &mut [f64],
     ) {
         let width = self.width;
         for &(col, usage) in &self.others {
@@ -300,9 +303,9 @@ impl Tangent {
                     dacc[cell(k)] -= acc[k] * sys.minv[k];
                 }
                 Usage::Amplitude(e, j) => {
-                    // The terms of the signals before e come first.
-                    let at = sys.signals[..e].iter().map(|s| s.terms()).sum::<usize>() + j;
-                    let s = sys.signals[e].shape_kept(j, t, before, &mut segments[at]);
+                    let s = sys.model.excitations[e].signal.terms[j]
+                        .shape
+                        .at_side(t, before);
                     if s != 0.0 {
                         for (k, l) in sys.minv_loads[e].iter().enumerate() {
                             dacc[cell(k)] += s * l;
@@ -492,59 +495,29 @@ fn dot<M: Madd>(a: &[f64], x: &[f64]) -> f64 {
     s + t
 }
 
-/// `dacc = J Y + E` (eq. 27–28), row by row, over the first `na` coordinates,
-/// those the motion reaches (`System::active`): the other rows of J, E and
-/// Y are zero, and so are their columns of J in the rows reached. The
-/// reach is rounded up to whole pairs of J's columns, so that every term
-/// meets the accumulator it meets in the whole row, and a skipped term would
-/// add an exact zero: the same sums as over whole rows.
-#[inline(always)]
-fn jacobian_times<M: Madd>(
-    jac: &[f64],
-    sy: &[f64],
-    et: &[f64],
-    (n, na, width): (usize, usize, usize),
-    dacc: &mut [f64],
-) {
-    let pairs = (na + na % 2).min(n);
-    for (k, (row, out)) in jac
-        .chunks_exact(2 * n)
-        .zip(dacc.chunks_exact_mut(width))
-        .enumerate()
-        .take(na)
-    {
-        let segments = match pairs == n {
-            true => [(row, sy), (&row[..0], &sy[..0])],
-            false => [(&row[..pairs], sy), (&row[n..n + pairs], &sy[n * width..])],
-        };
-        times_columns::<M>(&segments, (et, n, k), width, out);
-    }
-    dacc[na * width..].fill(0.0);
-}
-
-/// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a and a matrix X with
-/// rows `width` long (a multiple of four), sixteen (then eight, four)
-/// columns at a time; a and X come in `segments` `(a_s, X_s)` (each a_s of
-/// even length, X_s its rows), summed in turn; `(et, n, k)` is Eᵀ with its
-/// row length and the row k of E wanted.
+/// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a (even length) and a
+/// matrix X with rows `width` long (a multiple of four), sixteen (then
+/// eight, four) columns at a time; `(et, n, k)` is Eᵀ with its row length
+/// and the row k of E wanted.
 #[inline(always)]
 fn times_columns<M: Madd>(
-    segments: &[(&[f64], &[f64]); 2],
+    a: &[f64],
+    x: &[f64],
     e: (&[f64], usize, usize),
     width: usize,
     out: &mut [f64],
 ) {
     let mut c0 = 0;
     while c0 + 16 <= width {
-        row_times::<M, 16>(segments, e, width, c0, out);
+        row_times::<M, 16>(a, x, e, width, c0, out);
         c0 += 16;
     }
     if c0 + 8 <= width {
-        row_times::<M, 8>(segments, e, width, c0, out);
+        row_times::<M, 8>(a, x, e, width, c0, out);
         c0 += 8;
     }
     if c0 < width {
-        row_times::<M, 4>(segments, e, width, c0, out);
+        row_times::<M, 4>(a, x, e, width, c0, out);
     }
 }
 
@@ -552,18 +525,17 @@ fn times_columns<M: Madd>(
 /// accumulators so that the loop is not latency-bound.
 #[inline(always)]
 fn row_times<M: Madd, const W: usize>(
-    segments: &[(&[f64], &[f64]); 2],
+    a: &[f64],
+    x: &[f64],
     (et, n, k): (&[f64], usize, usize),
     width: usize,
     c0: usize,
     out: &mut [f64],
 ) {
-    // Every row read below (a.len() of each segment) lies inside its x.
-    let rows_fit = |(a, x): &(&[f64], &[f64])| {
-        a.len() % 2 == 0 && a.len().checked_mul(width).is_some_and(|len| len <= x.len())
-    };
+    // Every row read below (a.len() of them) lies inside x.
+    let rows_fit = a.len().checked_mul(width).is_some_and(|len| len <= x.len());
     let e_fits = (c0 + W).checked_mul(n).is_some_and(|len| len <= et.len());
-    assert!(c0 + W <= width && segments.iter().all(rows_fit) && k < n && e_fits);
+    assert!(c0 + W <= width && a.len() % 2 == 0 && rows_fit && k < n && e_fits);
     let (mut s, mut t) = ([0.0; W], [0.0; W]);
     // An index loop: written with `iter_mut().enumerate()` this compiles to
     // 10 % more instructions for the whole run (callgrind).
@@ -572,19 +544,16 @@ fn row_times<M: Madd, const W: usize>(
         // SAFETY: (c0 + c)·n + k < (c0 + W)·n ≤ et.len() (assert above).
         s[c] = unsafe { *et.get_unchecked((c0 + c) * n + k) };
     }
-    for (a, x) in segments {
-        for (j, c) in a.chunks_exact(2).enumerate() {
-            let r0 = 2 * j * width + c0;
-            let r1 = r0 + width;
-            // SAFETY: r1 + W ≤ (2j + 2)·width ≤ a.len()·width ≤ x.len()
-            // (assert above, with c0 + W ≤ width; the product does not
-            // overflow). Checked indexing here costs a third of the loop's
-            // instructions.
-            let (x0, x1) = unsafe { (x.get_unchecked(r0..r0 + W), x.get_unchecked(r1..r1 + W)) };
-            for q in 0..W {
-                s[q] = M::madd(c[0], x0[q], s[q]);
-                t[q] = M::madd(c[1], x1[q], t[q]);
-            }
+    for (j, c) in a.chunks_exact(2).enumerate() {
+        let r0 = 2 * j * width + c0;
+        let r1 = r0 + width;
+        // SAFETY: r1 + W ≤ (2j + 2)·width ≤ a.len()·width ≤ x.len() (assert
+        // above, with c0 + W ≤ width; the product does not overflow). Checked indexing here costs a third
+        // of the loop's instructions.
+        let (x0, x1) = unsafe { (x.get_unchecked(r0..r0 + W), x.get_unchecked(r1..r1 + W)) };
+        for q in 0..W {
+            s[q] = M::madd(c[0], x0[q], s[q]);
+            t[q] = M::madd(c[1], x1[q], t[q]);
         }
     }
     let o = &mut out[c0..c0 + W];

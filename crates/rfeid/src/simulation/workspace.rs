@@ -29,9 +29,6 @@ pub struct Workspace {
     /// The table segments the excitation looked up last, one per term of
     /// each signal in turn (`FixedSignal::at_side_kept`).
     pub(super) segments: Vec<Segment>,
-    /// The segments the sensitivities' amplitude terms looked up last, as
-    /// `segments` (`Tangent::apply`).
-    pub(super) amplitude_segments: Vec<Segment>,
     /// Whether `forces` are the limits from before `forces_time`.
     pub(super) forces_before: bool,
     /// `(sin θ, cos θ)` of each sine term at `phases_time` ([`StageSines`]).
@@ -124,9 +121,6 @@ impl Workspace {
         resize(&mut self.power_forces, sys.scratch_len());
         self.segments.clear();
         self.segments.resize(sys.signal_terms(), Segment::default());
-        self.amplitude_segments.clear();
-        self.amplitude_segments
-            .resize(sys.signal_terms(), Segment::default());
         self.phases.clear();
         self.phases.resize(sine_terms, (0.0, 1.0));
         self.forces_time = f64::NAN;

@@ -138,15 +138,6 @@ impl<'s> FixedSignal<'s> {
             .sum()
     }
 
-    /// Term j's shape at t, from before or after t ([`Shape::at_side`], bit
-    /// for bit), reusing and keeping its segment `kept` as
-    /// [`FixedSignal::at_side_kept`] does: what a run's sensitivity to the
-    /// term's amplitude needs at every stage.
-    #[inline]
-    pub fn shape_kept(&self, j: usize, t: f64, before: bool, kept: &mut Segment) -> f64 {
-        self.terms[j].shape_at_side(t, before, kept)
-    }
-
     /// [`FixedSignal::at_side`] reusing, for each linear table, the segment
     /// `kept` holds for its term (one per term, in order; any values, as
     /// the [`Default`]) when it holds t, and keeping the segment looked up
