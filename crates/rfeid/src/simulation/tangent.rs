@@ -245,15 +245,18 @@ impl Tangent {
                 };
                 add_static_change::<M>(et, n, g, &comp.static_columns, change);
             }
+            // δ̇ at first use, a closure by value for each: one lent as `&mut`
+            // is called through a shim that may stay out of line, off FMA.
             let mut cached = None;
-            let mut rate = || *cached.get_or_insert_with(|| dot::<M>(b, v));
-            let friction = FrictionAt::of(comp.friction.as_ref(), &mut rate);
+            let friction =
+                FrictionAt::of(comp.friction.as_ref(), || rate_once::<M>(&mut cached, b, v));
             let side = match comp.contact {
                 Some((_, j)) => contact_sides.get(j).copied().unwrap_or(0.0),
                 None => 0.0,
             };
-            let contact =
-                ContactState::of(comp.contact.as_ref().map(|c| &c.0), (d, side), &mut rate);
+            let contact = ContactState::of(comp.contact.as_ref().map(|c| &c.0), (d, side), || {
+                rate_once::<M>(&mut cached, b, v)
+            });
             add_rank_one::<M>(jac, n, (g, b), contact.at.slope, 0);
             let change = contact.slope_change();
             add_static_change::<M>(et, n, g, &comp.static_columns, change);
@@ -261,7 +264,8 @@ impl Tangent {
             add_rank_one::<M>(jac, n, (g, b), slope, 1);
             for &(col, usage) in &comp.usages {
                 let laws = (comp.power, &friction, &contact);
-                let f = force_derivative(usage, laws, &comp.pre, d, &mut rate);
+                let rate = || rate_once::<M>(&mut cached, b, v);
+                let f = force_derivative(usage, laws, &comp.pre, d, rate);
                 axpy::<M>(f, g, &mut et[col * n..(col + 1) * n]);
             }
         }
@@ -482,6 +486,12 @@ fn add_static_change<M: Madd>(et: &mut [f64], n: usize, g: &[f64], statics: &[f6
     for (col, w) in et.chunks_exact_mut(n).zip(statics) {
         axpy::<M>(change * w, g, col);
     }
+}
+
+/// A component's rate `b · v`, computed at its first use into `cached`.
+#[inline(always)]
+fn rate_once<M: Madd>(cached: &mut Option<f64>, b: &[f64], v: &[f64]) -> f64 {
+    *cached.get_or_insert_with(|| dot::<M>(b, v))
 }
 
 /// `a · x` for a of even length, in two partial sums.
