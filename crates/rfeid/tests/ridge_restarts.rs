@@ -170,3 +170,48 @@ fn a_singular_fisher_matrix_names_its_parameters() {
         .collect();
     assert!(reasons.iter().any(|x| x.contains(named)), "{reasons:?}");
 }
+
+/// The restarts run as many at a time as could all be needed (two, until
+/// one of them settles the misfit as the model's best); each ends as it
+/// would alone, and the ends are taken in the one-at-a-time order. So the
+/// result is the same on one thread as on two, bit for bit: estimates,
+/// standard errors, the simulations counted, the warnings.
+#[test]
+fn restarts_run_together_end_as_on_one_thread() {
+    let m = single(10.0);
+    let settings = Settings {
+        plan_points: 32,
+        starts: 1,
+        restarts: DEFAULT_RESTARTS,
+        ..Settings::default()
+    };
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| {
+            let problem = OutputError::new(Simulator::new(&m), data(), 0);
+            identify(problem, &settings, &Silent).expect("identifies")
+        })
+    };
+    let (one, two) = (on(1), on(2));
+    let restarts = one.warnings.iter().find_map(|w| match w {
+        Warning::SideMinimum {
+            restarts, agreed, ..
+        } => Some((*restarts, *agreed)),
+        _ => None,
+    });
+    assert_eq!(restarts, Some((2, true)), "two restarts that agree");
+    // Everything but the timings and the thread count.
+    let result = |r: &rfeid::identification::result::IdentificationResult| {
+        let mut v = serde_json::to_value(r).expect("serialises");
+        let o = v.as_object_mut().expect("an object");
+        o.remove("timings");
+        o.remove("threads");
+        v
+    };
+    assert_eq!(result(&one), result(&two));
+    assert_eq!(one.timings.searches.len(), 3);
+    assert_eq!(two.timings.searches.len(), 3);
+}

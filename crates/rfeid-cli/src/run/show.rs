@@ -122,12 +122,22 @@ fn timings_line(r: &IdentificationResult) -> String {
         0 => String::new(),
         n => format!(", {n} abandoned"),
     };
-    let searches = match t.searches.as_slice() {
-        [] | [_] => String::new(),
-        s => {
-            let each: Vec<String> = s.iter().map(|x| format!("{x:.3}")).collect();
-            format!(" ({} searches: {} s)", s.len(), each.join(", "))
-        }
+    let seconds = |s: &[f64]| {
+        s.iter()
+            .map(|x| format!("{x:.3}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let searches = match (t.searches.as_slice(), t.discarded.as_slice()) {
+        ([] | [_], []) => String::new(),
+        (s, []) => format!(" ({} searches: {} s)", s.len(), seconds(s)),
+        (s, d) => format!(
+            " ({} searches: {} s; {} run at the same time and not needed: {} s)",
+            s.len(),
+            seconds(s),
+            d.len(),
+            seconds(d)
+        ),
     };
     let profiles = match r.profiles.is_empty() {
         true => String::new(),

@@ -93,6 +93,11 @@ pub struct Timings {
     /// written before they were timed).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub searches: Vec<f64>,
+    /// Each restart that ran at the same time as the ones before it and
+    /// whose end was not needed (one of those settled the restarts, or
+    /// ended near its start), s; not in [`Timings::searches`].
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub discarded: Vec<f64>,
     /// The simulations this process ran and their time (zero in results
     /// written before they were counted; a merge's plan ran in its shards).
     #[serde(default)]

@@ -200,6 +200,7 @@ fn finish_stages(
             profiles: t_profiles,
             total: plan_seconds + t_finish.elapsed().as_secs_f64(),
             searches: searcher.times(),
+            discarded: searcher.discarded(),
             simulations: problem.work() + completion,
         },
         profiles,

@@ -8,6 +8,15 @@
 //! plan's ranking, exact as far as it goes (abandoned points that might
 //! rank before a candidate are evaluated to the end first: `plan_run`).
 //!
+//! The restarts that could all be needed run at the same time (rayon): as
+//! many as must still agree. Their ends are then taken in turn, as one at
+//! a time would take them; the ends after one that settles the restarts,
+//! or from a start near an end taken before it in the batch, are left out
+//! (and timed apart, [`crate::identification::result::Timings::discarded`]),
+//! so the result is the one-at-a-time result whatever the threads. A search
+//! mostly runs on one thread (one experiment, a few parameters), so two
+//! searches at once take about the time of one on a 2-core machine.
+//!
 //! No restart runs when the bounds at the best end already show parameters
 //! that cannot be told apart (a singular Fisher matrix, or correlations
 //! beyond the warning threshold): the searches then end on a ridge of J at
@@ -16,7 +25,7 @@
 use super::bounds::{self, BoundsError};
 use super::judge::fit_passes;
 use super::plan_run::PlanRun;
-use super::searcher::Searcher;
+use super::searcher::{Searcher, Started};
 use super::settings::Start;
 use super::starts::Ends;
 use crate::identification::output_error::OutputError;
@@ -79,41 +88,63 @@ pub(super) fn run(
     let mut tried = 0;
     let mut agreeing = Agreement::default();
     let mut position = 0;
-    while tried < s.restarts {
-        // The next point by J; abandoned points are evaluated to the end
-        // first where they might rank before it.
-        let Some((idx, cost)) = plan.ranked(position) else {
+    let mut settled = false;
+    while tried < s.restarts && !settled {
+        // As many restarts at once as could all be needed: those that must
+        // still agree, since one that passes ends the restarts.
+        let count = (AGREEING - agreeing.0).min(s.restarts - tried);
+        let picks = next_picks(plan, ends, &visited, position, count);
+        let Some(last) = picks.last() else {
             break;
         };
-        position += 1;
-        let p = plan.plan.point(idx);
-        if ends.used.contains(&idx) || visited.iter().any(|v| distance(v, p) < DISTINCT) {
-            continue;
-        }
-        tried += 1;
-        visited.push(p.to_vec());
-        searcher.progress().search_started(
-            ends.used.len() + tried - 1,
-            ends.used.len() + s.restarts,
-            cost,
-        );
-        match searcher.start_search(problem, p, &mut ends.warnings) {
-            Ok(e) => {
-                visited.push(e.u.clone());
-                let ok = passes(&e.u);
-                agreeing.count(problem, s, ends, e.cost);
-                ends.searches.push(e);
-                passed.push(ok);
-                if ok || agreeing.settled() {
-                    break;
-                }
+        position = last.position + 1;
+        let (first, of) = (ends.used.len() + tried, ends.used.len() + s.restarts);
+        let started = search_picks(problem, searcher, plan, &picks, (first, of));
+        let mut passed_over = false;
+        for (pick, done) in picks.iter().zip(started) {
+            let p = plan.plan.point(pick.index);
+            // After a restart that settles them, or before a pick near an
+            // end this batch found (one at a time, the restarts would have
+            // passed it over, and the next batch looks from there), the
+            // batch's ends are not needed.
+            passed_over = passed_over || visited.iter().any(|v| distance(v, p) < DISTINCT);
+            if settled || passed_over {
+                searcher.record(done.seconds, false);
+                position = position.min(pick.position);
+                continue;
             }
-            Err(e) => ends.failures.push(StartFailure {
-                plan_index: idx,
-                reason: e.to_string(),
-            }),
+            tried += 1;
+            visited.push(p.to_vec());
+            searcher.record(done.seconds, true);
+            ends.warnings.extend(done.warnings);
+            match done.outcome {
+                Ok(e) => {
+                    visited.push(e.u.clone());
+                    let ok = passes(&e.u);
+                    agreeing.count(problem, s, ends, e.cost);
+                    ends.searches.push(e);
+                    passed.push(ok);
+                    settled = ok || agreeing.settled();
+                }
+                Err(e) => ends.failures.push(StartFailure {
+                    plan_index: pick.index,
+                    reason: e.to_string(),
+                }),
+            }
         }
     }
+    judged(ends, passed, (first_cost, tried), agreeing.settled())
+}
+
+/// What the restarts did, as [`Warning::SideMinimum`] into `ends`, and
+/// which searches (`passed` of each) are kept; `tried` restarts after a
+/// first best J of `first_cost`.
+fn judged(
+    ends: &mut Ends,
+    passed: Vec<bool>,
+    (first_cost, tried): (f64, usize),
+    settled: bool,
+) -> Judged {
     let found = passed.iter().any(|&p| p);
     let best = lowest(
         ends.searches
@@ -126,11 +157,71 @@ pub(super) fn run(
         first_cost,
         restarts: tried,
         found: found.then_some(best),
-        agreed: !found && agreeing.settled(),
+        agreed: !found && settled,
     });
     Judged {
         passed: found.then_some(passed),
     }
+}
+
+/// A plan point the restarts search from next.
+struct Pick {
+    /// Its index in the plan.
+    index: usize,
+    /// Its J.
+    cost: f64,
+    /// Its position in the plan's ranking.
+    position: usize,
+}
+
+/// The next `count` plan points by J from ranking `position` on, each at
+/// least [`DISTINCT`] from every point in `visited`, from each other and
+/// from the starts: the restarts one at a time would take them in turn if
+/// no search among them ended near a later one.
+fn next_picks(
+    plan: &mut PlanRun<'_, '_>,
+    ends: &Ends,
+    visited: &[Vec<f64>],
+    mut position: usize,
+    count: usize,
+) -> Vec<Pick> {
+    let mut picks: Vec<Pick> = Vec::with_capacity(count);
+    while picks.len() < count {
+        // The next point by J; abandoned points are evaluated to the end
+        // first where they might rank before it.
+        let Some((index, cost)) = plan.ranked(position) else {
+            break;
+        };
+        let p = plan.plan.point(index);
+        let near = |v: &[f64]| distance(v, p) < DISTINCT;
+        let taken =
+            visited.iter().any(|v| near(v)) || picks.iter().any(|q| near(plan.plan.point(q.index)));
+        if !ends.used.contains(&index) && !taken {
+            picks.push(Pick {
+                index,
+                cost,
+                position,
+            });
+        }
+        position += 1;
+    }
+    picks
+}
+
+/// The searches from `picks` at once, announced as searches `first`, … of
+/// `of`.
+fn search_picks(
+    problem: &OutputError<'_>,
+    searcher: &Searcher<'_>,
+    plan: &PlanRun<'_, '_>,
+    picks: &[Pick],
+    (first, of): (usize, usize),
+) -> Vec<Started> {
+    for (k, pick) in picks.iter().enumerate() {
+        searcher.progress().search_started(first + k, of, pick.cost);
+    }
+    let points: Vec<&[f64]> = picks.iter().map(|p| plan.plan.point(p.index)).collect();
+    searcher.start_searches(problem, &points)
 }
 
 /// The points searched from and the searches' ends so far.

@@ -11,8 +11,19 @@ use crate::identification::search::{LocalSearch, Method, SearchOutcome};
 use crate::identification::warning::Warning;
 use crate::model::Model;
 use crate::simulation::{Response, Simulator};
+use rayon::prelude::*;
 use std::sync::Mutex;
 use std::time::Instant;
+
+/// A search from a start run among others ([`Searcher::start_searches`]).
+pub(super) struct Started {
+    /// Its end, or why it has none.
+    pub outcome: Result<SearchOutcome, SearchError>,
+    /// The warnings it raised.
+    pub warnings: Vec<Warning>,
+    /// Its wall time, s.
+    pub seconds: f64,
+}
 
 /// The settings of every local search of one run.
 pub(super) struct Searcher<'s> {
@@ -26,6 +37,8 @@ pub(super) struct Searcher<'s> {
     progress: &'s dyn Progress,
     /// Wall time of each search from a start, s, in order.
     times: Mutex<Vec<f64>>,
+    /// Wall time of each restart run ahead whose end was not needed, s.
+    discarded: Mutex<Vec<f64>>,
 }
 
 impl<'s> Searcher<'s> {
@@ -40,6 +53,7 @@ impl<'s> Searcher<'s> {
             window_lm: settings.lm.clone().with_decrement_tolerance(r as f64)?,
             progress,
             times: Mutex::new(Vec::new()),
+            discarded: Mutex::new(Vec::new()),
         })
     }
 
@@ -47,6 +61,12 @@ impl<'s> Searcher<'s> {
     /// s, in the order they ran.
     pub fn times(&self) -> Vec<f64> {
         self.times.lock().map(|t| t.clone()).unwrap_or_default()
+    }
+
+    /// The wall time of each restart that ran ahead and whose end was not
+    /// needed ([`Searcher::record`]), s.
+    pub fn discarded(&self) -> Vec<f64> {
+        self.discarded.lock().map(|t| t.clone()).unwrap_or_default()
     }
 
     /// The settings.
@@ -104,12 +124,50 @@ impl<'s> Searcher<'s> {
         u0: &[f64],
         warnings: &mut Vec<Warning>,
     ) -> Result<SearchOutcome, SearchError> {
+        let (outcome, seconds) = self.timed(problem, u0, warnings);
+        self.record(seconds, true);
+        outcome
+    }
+
+    /// [`Searcher::start_search`] from each of `starts` at once (rayon),
+    /// each with its own warnings and wall time, s, none recorded: the
+    /// caller keeps those it needs ([`Searcher::record`]). Each search runs
+    /// as it would alone, so its end does not depend on the others or on
+    /// the threads.
+    pub fn start_searches(&self, problem: &OutputError<'_>, starts: &[&[f64]]) -> Vec<Started> {
+        starts
+            .par_iter()
+            .map(|u0| {
+                let mut warnings = Vec::new();
+                let (outcome, seconds) = self.timed(problem, u0, &mut warnings);
+                Started {
+                    outcome,
+                    warnings,
+                    seconds,
+                }
+            })
+            .collect()
+    }
+
+    /// Records the wall time of a search from a start, s, among the
+    /// searches' (`kept`) or the discarded ones'.
+    pub fn record(&self, seconds: f64, kept: bool) {
+        let times = if kept { &self.times } else { &self.discarded };
+        if let Ok(mut t) = times.lock() {
+            t.push(seconds);
+        }
+    }
+
+    /// [`Searcher::start_search`] with its wall time, s, not recorded.
+    fn timed(
+        &self,
+        problem: &OutputError<'_>,
+        u0: &[f64],
+        warnings: &mut Vec<Warning>,
+    ) -> (Result<SearchOutcome, SearchError>, f64) {
         let started = Instant::now();
         let outcome = self.start_search_untimed(problem, u0, warnings);
-        if let Ok(mut t) = self.times.lock() {
-            t.push(started.elapsed().as_secs_f64());
-        }
-        outcome
+        (outcome, started.elapsed().as_secs_f64())
     }
 
     /// [`Searcher::start_search`] without its time.
