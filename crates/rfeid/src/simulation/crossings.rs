@@ -18,6 +18,13 @@ pub(super) fn hermite(x0: f64, s0: f64, x1: f64, s1: f64, t: f64) -> f64 {
     x0 + t * (s0 + t * (c2 + t * c3))
 }
 
+/// The slope in θ of [`hermite`] at θ.
+pub(super) fn hermite_slope(x0: f64, s0: f64, x1: f64, s1: f64, t: f64) -> f64 {
+    let c3 = 2.0 * (x0 - x1) + s0 + s1;
+    let c2 = 3.0 * (x1 - x0) - 2.0 * s0 - s1;
+    s0 + t * (2.0 * c2 + 3.0 * t * c3)
+}
+
 /// Pushes every θ in (0, 1) where the cubic Hermite interpolant with values
 /// x0, x1 and slopes (per unit θ) s0, s1 changes sign: the interval is cut
 /// at the cubic's turning points, and each monotone piece that changes

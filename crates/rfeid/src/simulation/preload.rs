@@ -67,21 +67,22 @@ pub(crate) fn power_change(a: f64, m: f64, pre: &Preload, d: f64) -> (f64, f64) 
             let dp = s * d / (p + pre.root0);
             return (a * (d * p + d0 * dp), 1.5 * a * dp);
         }
-    } else if d0 == 0.0 {
-        let (f, slope) = power_law(a, m, d);
-        return (f, slope - a * pre.slope0);
     }
     other_change(a, m, pre, d)
 }
 
 /// [`power_change`] for the rarer cases, out of line so that the common
-/// ones stay small in the kernels' loops: m = 1, a change of sign, and
-/// exponents other than 2 and 1.5.
+/// ones stay small in the kernels' loops (and the general exponent's
+/// `powf` is not hoisted out of its branch into them): no preload, m = 1,
+/// a change of sign, and exponents other than 2 and 1.5.
 #[inline(never)]
 fn other_change(a: f64, m: f64, pre: &Preload, d: f64) -> (f64, f64) {
     let d0 = pre.d0;
     let dd = d0 + d;
-    if m == 1.0 {
+    if d0 == 0.0 {
+        let (f, slope) = power_law(a, m, d);
+        (f, slope - a * pre.slope0)
+    } else if m == 1.0 {
         (a * d, 0.0)
     } else if !(dd * d0 > 0.0) {
         let (f, slope) = power_law(a, m, dd);

@@ -20,7 +20,7 @@
 //! flow does not depend on where a step is split.
 use super::contact_events::{contact_jumps, find_contact_crossings, TrialStep};
 use super::contact_events::{set_contact_sides, start_contact_sides};
-use super::crossings::{cubic_roots, hermite, hermite_root, push_inside, MERGE};
+use super::crossings::{cubic_roots, hermite, hermite_root, hermite_slope, push_inside, MERGE};
 use super::dim::Dim;
 use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
 use super::laws::bouc_wen::Branch;
@@ -150,6 +150,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         // Stage 0 again where a contact's side differs from the one it was
         // evaluated on (one call site for the stages, see above).
         let mut refresh = !self.sys.contacts.is_empty() && start_contact_sides::<M>(self.sys, ws);
+        let mut trial = false;
         loop {
             let last = !split || piece == ws.crossings.len();
             let to = if last { 1.0 } else { ws.crossings[piece] };
@@ -169,7 +170,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 self.first_stage(ws, ti, false);
                 if with_sens {
                     if split && piece > 0 {
-                        self.event_jumps(ws);
+                        self.event_jumps(ws, from);
                         contact_jumps::<M>(self.sys, &self.tangent, ws, from);
                     }
                     self.first_sens_stage(ws, ti);
@@ -178,12 +179,28 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             }
             self.state_stages(ws, ti, hi);
             if !split && self.locate && self.find_crossings(ws, h) {
-                // Redo the step in pieces ending at the crossings.
+                // Redo the step in pieces ending at the crossings; with
+                // sensitivities and a Bouc–Wen kink among them, after the
+                // trial step's sensitivities, from which the kinks' instants
+                // move (`kink_instant_rates`).
                 split = true;
-                continue;
+                trial = with_sens && !ws.z.marks.is_empty();
+                if !trial {
+                    continue;
+                }
+                ws.sy_start.copy_from_slice(&ws.sy);
+                ws.z.sy_start.copy_from_slice(&ws.z.sy);
             }
             if with_sens {
                 self.sens_stages(ws, ti, hi);
+            }
+            if trial {
+                // The trial step's sensitivities give the kinks' instants'.
+                self.kink_instant_rates(ws, h);
+                std::mem::swap(&mut ws.sy, &mut ws.sy_start);
+                std::mem::swap(&mut ws.z.sy, &mut ws.z.sy_start);
+                trial = false;
+                continue;
             }
             std::mem::swap(&mut ws.y, &mut ws.y_new);
             std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
@@ -367,6 +384,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let (comps, rows) = (&self.sys.comps, &self.sys.hysteresis);
         let n2 = 2 * n;
         ws.z.marks.clear();
+        ws.z.mark_rates.clear();
         let end_acc = match self.end_stage {
             Some(i) => &ws.k[i * n2 + n..(i + 1) * n2],
             None => &ws.k[n..n2],
@@ -396,16 +414,90 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
 }
 
 impl<M: Madd, D: Dim> Stepper<'_, M, D> {
-    /// The jumps of the Bouc–Wen states' sensitivities at a located kink,
-    /// between a piece and the next (stage 0 of the next in `ws.k`): the
-    /// instant t* of the kink g = 0 (g the component's velocity v, or its
-    /// state z) moves with the parameters, `dt*/dx = −(∂g/∂y s)/(ġ)`, and
-    /// the rate ż changes branch there: `Δs_z = (ż⁻ − ż⁺) dt*/dx`. ż is
-    /// continuous across the kink, so the jump is of the order of the
-    /// located instant's error; it is what makes the sensitivities the
+    /// The derivatives in the parameters of each located Bouc–Wen kink's
+    /// instant t* = t + θ h (`ws.z.marks`), into `ws.z.mark_rates`: θ is the
+    /// root of the trial step's cubic p through the kink's value g (v or z)
+    /// and rate at the step's ends (`find_hysteresis_crossings`), so
+    /// `dt*/dx = −h (∂p/∂x)(θ) / p'(θ)`, where ∂p/∂x is the cubic through
+    /// the derivatives of those four values: from the sensitivities at the
+    /// step's start (`sy_start`), of its stage 0, of the trial step's end
+    /// (`sy`, just integrated) and of its last stage (v̇) or of ż there.
+    /// These are the derivatives of the located instants themselves, so the
+    /// jumps ([`Self::event_jumps`]) make the sensitivities the derivative of
+    /// the computed response, not only of the motion's (a first-order
+    /// approximation, off by 2e-5 to 9e-5 of a column's RMS on the
+    /// benchmark's law at its own steps). Out of line and cold: it runs at
+    /// few steps, and the kernels' code stays as it was.
+    #[cold]
+    #[inline(never)]
+    fn kink_instant_rates(&self, ws: &mut Workspace, h: f64) {
+        let n = D::n(self.sys.n);
+        let (n2, w) = (2 * n, self.tangent.width);
+        let (comps, rows) = (&self.sys.comps, &self.sys.hysteresis);
+        let usages = self.tangent.hysteresis_usages();
+        let end = self.end_stage.unwrap_or(0);
+        let (sy, sy_start) = (&ws.sy[..], &ws.sy_start[..]);
+        let (ks0, ks_end) = (&ws.ks[..n2 * w], &ws.ks[end * n2 * w..(end + 1) * n2 * w]);
+        let z = &mut ws.z;
+        z.mark_rates.clear();
+        z.mark_rates.resize(z.marks.len() * w, 0.0);
+        for (m, &(theta, j, is_z)) in z.marks.iter().enumerate() {
+            let c = &comps[rows[j].comp];
+            // The component's velocity row of sensitivities `s`, column col.
+            let rate = |s: &[f64], col: usize| {
+                let mut g = 0.0;
+                for (i, &b) in c.b.iter().enumerate() {
+                    g += b * s[(n + c.off[i / 6] + i % 6) * w + col];
+                }
+                g
+            };
+            let e = &z.ends[j];
+            let e = if is_z { &e[4..] } else { &e[..4] };
+            let slope = hermite_slope(e[0], e[1], e[2], e[3], theta);
+            // ż at the trial step's end, as `find_hysteresis_crossings` took it.
+            let v1 = c.rate::<M>(&ws.y_new[n..]);
+            let at = rows[j].law.on_branch(v1, z.y_new[j], Branch::NATURAL);
+            let (sv, sz) = at.slopes();
+            let out = &mut z.mark_rates[m * w..(m + 1) * w];
+            if slope == 0.0 || !slope.is_finite() {
+                continue;
+            }
+            for (col, o) in out.iter_mut().enumerate() {
+                let d = match is_z {
+                    false => [
+                        rate(sy_start, col),
+                        h * rate(ks0, col),
+                        rate(sy, col),
+                        h * rate(ks_end, col),
+                    ],
+                    true => {
+                        let s1 = z.sy[j * w + col];
+                        let mut r1 = sv * rate(sy, col) + sz * s1;
+                        for &(_, key) in usages[j].iter().filter(|u| u.0 == col) {
+                            r1 += at.derivative(key);
+                        }
+                        [z.sy_start[j * w + col], h * z.ks[j * w + col], s1, h * r1]
+                    }
+                };
+                *o = -h * hermite(d[0], d[1], d[2], d[3], theta) / slope;
+            }
+        }
+    }
+
+    /// The jumps of the Bouc–Wen states' sensitivities at a located kink at
+    /// θ = `from`, between a piece and the next (stage 0 of the next in
+    /// `ws.k`): the instant t* of the kink g = 0 (g the component's velocity
+    /// v, or its state z) moves with the parameters, and the rate ż changes
+    /// branch there: `Δs_z = (ż⁻ − ż⁺) dt*/dx`, with dt*/dx that of the
+    /// located instant ([`Self::kink_instant_rates`]), or the motion's
+    /// `−(∂g/∂y s)/ġ` for a branch changed where no kink of its value was
+    /// located. ż is continuous across the kink, so the jump is of the order
+    /// of the located instant's error; it is what makes the sensitivities the
     /// derivative of the computed response, whose split instants move with
-    /// the parameters.
-    fn event_jumps(&self, ws: &mut Workspace) {
+    /// the parameters. Out of line and cold, as [`Self::kink_instant_rates`].
+    #[cold]
+    #[inline(never)]
+    fn event_jumps(&self, ws: &mut Workspace, from: f64) {
         let n = D::n(self.sys.n);
         let w = self.tangent.width;
         let (comps, rows) = (&self.sys.comps, &self.sys.hysteresis);
@@ -422,23 +514,38 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
                 v_reach: after.v_reach,
                 ..before
             };
+            // The located instant's derivatives, if its kink is at `from`.
+            let located = |is_z: bool| {
+                let m = (ws.z.marks.iter())
+                    .position(|&(t, k, of_z)| k == j && of_z == is_z && (t - from).abs() < MERGE)?;
+                ws.z.mark_rates.get(m * w..(m + 1) * w)
+            };
+            let (rates_v, rates_z) = (located(false), located(true));
             let s_z = &mut ws.z.sy[j * w..(j + 1) * w];
             let v_dot = c.rate::<M>(&ws.k[n..2 * n]);
             let (at_before, at_between, at_after) = (rate(before), rate(between), rate(after));
             let jump = at_before - at_between;
-            if before.v != after.v && jump != 0.0 && v_dot != 0.0 {
-                for (col, s) in s_z.iter_mut().enumerate() {
-                    let mut g_s = 0.0;
-                    for (i, &b) in c.b.iter().enumerate() {
-                        g_s += b * ws.sy[(n + c.off[i / 6] + i % 6) * w + col];
+            if before.v != after.v && jump != 0.0 {
+                match rates_v {
+                    Some(r) => (s_z.iter_mut().zip(r)).for_each(|(s, r)| *s += jump * r),
+                    None if v_dot != 0.0 => {
+                        for (col, s) in s_z.iter_mut().enumerate() {
+                            let mut g_s = 0.0;
+                            for (i, &b) in c.b.iter().enumerate() {
+                                g_s += b * ws.sy[(n + c.off[i / 6] + i % 6) * w + col];
+                            }
+                            *s -= jump * g_s / v_dot;
+                        }
                     }
-                    *s -= jump * g_s / v_dot;
+                    None => {}
                 }
             }
             let (jump, z_dot) = (at_between - at_after, ws.z.k[j]);
-            if before.z != after.z && jump != 0.0 && z_dot != 0.0 {
-                for s in s_z.iter_mut() {
-                    *s -= jump * *s / z_dot;
+            if before.z != after.z && jump != 0.0 {
+                match rates_z {
+                    Some(r) => (s_z.iter_mut().zip(r)).for_each(|(s, r)| *s += jump * r),
+                    None if z_dot != 0.0 => s_z.iter_mut().for_each(|s| *s -= jump * *s / z_dot),
+                    None => {}
                 }
             }
         }

@@ -19,6 +19,9 @@ pub struct Workspace {
     /// Sensitivities, 2n rows of the tangent's width.
     pub(crate) sy: Vec<f64>,
     pub(super) sy_stage: Vec<f64>,
+    /// The sensitivities at the start of a step whose trial step's
+    /// sensitivities are computed too (`Stepper::step`).
+    pub(super) sy_start: Vec<f64>,
     /// Stage derivatives of the sensitivities, stages × 2n rows.
     pub(crate) ks: Vec<f64>,
     pub(super) scratch: Vec<f64>,
@@ -75,6 +78,13 @@ pub struct InternalStates {
     pub(super) branch: Vec<Branch>,
     /// The located kinks of the step: (θ, component, whether of z).
     pub(super) marks: Vec<(f64, usize, bool)>,
+    /// Per located kink (in `marks`' order), the derivatives of its
+    /// instant in the parameters, one row of the tangent's width
+    /// (`Stepper::kink_instant_rates`); empty when not computed.
+    pub(super) mark_rates: Vec<f64>,
+    /// `sy` at the start of a step whose trial step's sensitivities are
+    /// computed too.
+    pub(super) sy_start: Vec<f64>,
     /// The branches of the piece before (for the jumps at its end).
     pub(super) branch_before: Vec<Branch>,
 }
@@ -101,6 +111,8 @@ impl Workspace {
         resize(&mut self.k, stages * n2);
         resize(&mut self.sy, n2 * width);
         resize(&mut self.sy_stage, n2 * width);
+        // Only Bouc–Wen kinks need the trial step's sensitivities.
+        resize(&mut self.sy_start, if nz > 0 { n2 * width } else { 0 });
         resize(&mut self.ks, stages * n2 * width);
         resize(&mut self.z.y, nz);
         resize(&mut self.z.y_new, nz);
@@ -108,6 +120,8 @@ impl Workspace {
         resize(&mut self.z.k, stages * nz);
         resize(&mut self.z.sy, nz * width);
         resize(&mut self.z.sy_stage, nz * width);
+        resize(&mut self.z.sy_start, nz * width);
+        self.z.mark_rates.clear();
         resize(&mut self.z.ks, stages * nz * width);
         self.z.ends.clear();
         self.z.ends.resize(nz, [0.0; 8]);

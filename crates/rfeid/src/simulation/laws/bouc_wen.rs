@@ -194,7 +194,7 @@ fn powers(z: f64, n: f64) -> (f64, f64) {
     } else if a == 0.0 {
         (0.0, 0.0)
     } else {
-        let p = a.powf(n);
+        let p = super::powf_kept(a, n);
         (p, p / a)
     }
 }
@@ -204,7 +204,7 @@ fn powers(z: f64, n: f64) -> (f64, f64) {
 fn log_abs(z: f64) -> f64 {
     match z == 0.0 {
         true => 0.0,
-        false => z.abs().ln(),
+        false => super::ln_kept(z.abs()),
     }
 }
 

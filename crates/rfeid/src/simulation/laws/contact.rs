@@ -233,7 +233,7 @@ impl ContactForce {
         let m = self.spring.m;
         match self.linear || at.force == 0.0 || m == 1.0 || at.s <= 0.0 {
             true => 0.0,
-            false => m * (m - 1.0) * self.spring.coef * at.s.powf(m - 2.0),
+            false => m * (m - 1.0) * self.spring.coef * super::powf_kept(at.s, m - 2.0),
         }
     }
 
@@ -248,7 +248,10 @@ impl ContactForce {
         match key {
             ContactKey::Stiffness => (1.0, 0.0),
             ContactKey::Coefficient => (self.spring.per_a * power_law(1.0, m, at.s).1, 0.0),
-            ContactKey::Exponent => (at.slope * (1.0 / m + at.s.ln() - self.spring.ln_ref), 0.0),
+            ContactKey::Exponent => (
+                at.slope * (1.0 / m + super::ln_kept(at.s) - self.spring.ln_ref),
+                0.0,
+            ),
             ContactKey::Damping => (0.0, 1.0),
             ContactKey::Gap => (-self.curvature(at), 0.0),
         }
@@ -341,7 +344,7 @@ impl ContactForce {
                 self.spring.per_a * power_law(1.0, self.spring.m, at.s.max(0.0)).0
             }
             ContactKey::Exponent if at.s <= 0.0 => 0.0,
-            ContactKey::Exponent => at.spring * (at.s.ln() - self.spring.ln_ref),
+            ContactKey::Exponent => at.spring * (super::ln_kept(at.s) - self.spring.ln_ref),
             ContactKey::Damping => at.v,
             ContactKey::Gap => -at.slope,
         }

@@ -282,7 +282,7 @@ impl FrictionForce {
         let (e, f) = match self.stribeck {
             true => {
                 let x = v * self.inv_vs;
-                let e = (-x * x).exp();
+                let e = super::exp_kept(-x * x);
                 (e, f0 + (self.fs - f0) * e)
             }
             false => (0.0, f0),

@@ -332,3 +332,25 @@ impl KeyDims {
         }
     }
 }
+
+/// `x^y`, out of line: in the kernels, a law's `powf` inside a branch that
+/// most components skip (a contact's, a Bouc–Wen state's) could otherwise be
+/// hoisted out of it and run for every component (`ln(0)` included), as
+/// some builds did (+34 % instructions on the knee–column's sensitivities).
+/// A call is not moved out of its branch.
+#[inline(never)]
+pub(crate) fn powf_kept(x: f64, y: f64) -> f64 {
+    x.powf(y)
+}
+
+/// `ln x`, out of line, as [`powf_kept`].
+#[inline(never)]
+pub(crate) fn ln_kept(x: f64) -> f64 {
+    x.ln()
+}
+
+/// `e^x`, out of line, as [`powf_kept`].
+#[inline(never)]
+pub(crate) fn exp_kept(x: f64) -> f64 {
+    x.exp()
+}

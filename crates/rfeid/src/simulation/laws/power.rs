@@ -122,7 +122,7 @@ impl PowerSpring {
 }
 
 /// The force of the power law and its slope, `(a sign(δ)|δ|^m, m a |δ|^(m−1))`.
-#[inline]
+#[inline(never)]
 pub fn power_law(a: f64, m: f64, d: f64) -> (f64, f64) {
     let ad = d.abs();
     if m == 2.0 {
@@ -140,7 +140,7 @@ pub fn power_law(a: f64, m: f64, d: f64) -> (f64, f64) {
     } else if ad == 0.0 {
         (0.0, 0.0)
     } else {
-        let p = ad.powf(m - 1.0);
+        let p = super::powf_kept(ad, m - 1.0);
         (a * p * d, a * m * p)
     }
 }
