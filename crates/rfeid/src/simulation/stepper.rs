@@ -427,7 +427,8 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
     /// the computed response, not only of the motion's (a first-order
     /// approximation, off by 2e-5 to 9e-5 of a column's RMS on the
     /// benchmark's law at its own steps). Out of line and cold: it runs at
-    /// few steps, and the kernels' code stays as it was.
+    /// few steps, and kept out of the kernels it leaves their loops to
+    /// the compiler as before.
     #[cold]
     #[inline(never)]
     fn kink_instant_rates(&self, ws: &mut Workspace, h: f64) {
