@@ -55,6 +55,18 @@ impl SparseComp {
         d[0] + d[1]
     }
 
+    /// `B_i` times column `col` of the sensitivity rows `rows` (each
+    /// `width` long) from row `first` on (0 for the coordinates', n for the
+    /// velocities'), summed in the order of B's entries.
+    #[inline(always)]
+    pub fn column_rate(&self, rows: &[f64], first: usize, width: usize, col: usize) -> f64 {
+        let mut g = 0.0;
+        for (i, &b) in self.b.iter().enumerate() {
+            g += b * rows[(first + self.off[i / 6] + i % 6) * width + col];
+        }
+        g
+    }
+
     /// The component's power-law spring in `powers`, if any.
     #[inline(always)]
     pub fn power<'p>(&self, powers: &'p [SparsePower]) -> Option<&'p SparsePower> {

@@ -445,13 +445,7 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
         for (m, &(theta, j, is_z)) in z.marks.iter().enumerate() {
             let c = &comps[rows[j].comp];
             // The component's velocity row of sensitivities `s`, column col.
-            let rate = |s: &[f64], col: usize| {
-                let mut g = 0.0;
-                for (i, &b) in c.b.iter().enumerate() {
-                    g += b * s[(n + c.off[i / 6] + i % 6) * w + col];
-                }
-                g
-            };
+            let rate = |s: &[f64], col: usize| c.column_rate(s, n, w, col);
             let e = &z.ends[j];
             let e = if is_z { &e[4..] } else { &e[..4] };
             let slope = hermite_slope(e[0], e[1], e[2], e[3], theta);
@@ -531,11 +525,7 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
                     Some(r) => (s_z.iter_mut().zip(r)).for_each(|(s, r)| *s += jump * r),
                     None if v_dot != 0.0 => {
                         for (col, s) in s_z.iter_mut().enumerate() {
-                            let mut g_s = 0.0;
-                            for (i, &b) in c.b.iter().enumerate() {
-                                g_s += b * ws.sy[(n + c.off[i / 6] + i % 6) * w + col];
-                            }
-                            *s -= jump * g_s / v_dot;
+                            *s -= jump * c.column_rate(&ws.sy, n, w, col) / v_dot;
                         }
                     }
                     None => {}
