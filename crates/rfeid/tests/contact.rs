@@ -45,10 +45,7 @@ fn contact_model(gap: &str) -> Model {
 /// k, 1e-5 of c, 1e-10 m of the gap (measured: at 1e-9 m the stencil's own
 /// error is 2.5e-5 of the column).
 ///
-/// Not yet so at coarser steps (measured): 2.4e-6 to 3.0e-5 at 4 steps per
-/// sample, 7.1e-4 to 6.3e-3 at 1 (the search's). The closings' instants are
-/// not the cause: taking their own derivatives from the trial step, as
-/// Bouc–Wen's kinks do, changed these by under 3 %.
+/// At coarser steps: [`sensitivities_at_coarse_steps_are_the_computed_responses_derivative`].
 #[test]
 fn sensitivities_through_openings_and_closings_match_finite_differences() {
     for gap in ["0 m", "-5e-6 m", "2e-6 m"] {
@@ -224,5 +221,64 @@ value = "-5e-6 m"
         let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
         eprintln!("{name}: {err:.2e} of the column's RMS");
         assert!(err < 1e-6, "{name}: {err:.2e}");
+    }
+}
+
+/// The sensitivities' errors against the five-point stencil (as
+/// [`sensitivities_through_openings_and_closings_match_finite_differences`])
+/// at a fixed `steps` per sample, for each gap and key, on both kernels.
+fn coarse_errors(steps: usize) -> Vec<(String, f64)> {
+    let mut errors = Vec::new();
+    for gap in ["0 m", "-5e-6 m", "2e-6 m"] {
+        let model = contact_model(gap);
+        let wrt: Vec<usize> = (0..model.parameters.len())
+            .filter(|&p| gap != "0 m" || model.parameters[p].name != "gap")
+            .collect();
+        let x = model.nominal();
+        for kernel in [Kernel::Dense, Kernel::Sparse] {
+            let mut sim = Simulator::with_integrator(&model, integrator(steps));
+            sim.set_kernel(kernel);
+            let mut ws = Workspace::default();
+            let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, &wrt);
+            for (&p, col) in wrt.iter().zip(cols) {
+                let name = &model.parameters[p].name;
+                let h = match name.as_str() {
+                    "gap" => 1e-10,
+                    "k_contact" => 1e-6 * x[p],
+                    _ => 1e-5 * x[p],
+                };
+                let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
+                let what = format!("{steps} steps, gap {gap}, {kernel:?}, {name}");
+                eprintln!("{what}: {err:.2e} of the column's RMS");
+                errors.push((what, err));
+            }
+        }
+    }
+    errors
+}
+
+/// At the coarse steps the identification takes (1 per sample in the
+/// search, a few at its end), the sensitivities are still the derivative
+/// of the computed response: every located instant moves with the
+/// parameters by its own derivative, taken from the trial step's
+/// sensitivities (`contact_events::contact_instant_rates`), and a located
+/// zero of the force jumps by the computed force there, not by nothing.
+///
+/// Measured: at 4 steps per sample 3.0e-9 to 1.1e-7 (before: 2.4e-6 to
+/// 3.0e-5, with no jump at a zero of the force and the motion's first-order
+/// instants), asserted to 1e-6. At 1 step per sample 1.9e-7 to 1.5e-6
+/// (before: 7.1e-4 to 6.3e-3): the 5 µm preload's k and c columns (1.5e-6
+/// and 1.3e-6, the same at stencil steps ten times larger) miss 1e-6. The
+/// rest is not traced; a candidate is that a Runge–Kutta piece's derivative
+/// in its length is its end's rate only to the method's order, which the
+/// jumps take as exact. The guard at 1 step is 3e-6, so that a return of
+/// the old errors fails it.
+#[test]
+fn sensitivities_at_coarse_steps_are_the_computed_responses_derivative() {
+    for (what, err) in coarse_errors(4) {
+        assert!(err < 1e-6, "{what}: {err:.2e}");
+    }
+    for (what, err) in coarse_errors(1) {
+        assert!(err < 3e-6, "{what}: {err:.2e}");
     }
 }

@@ -8,7 +8,8 @@
 //! the last stage); the pieces next to a located switch are evaluated on
 //! their own side ([`set_contact_sides`]), and the sensitivities of the
 //! velocities jump where the force does ([`contact_jumps`]).
-use super::crossings::{cubic_roots, hermite, MERGE};
+use super::crossings::{cubic_roots, hermite, hermite_slope, MERGE};
+use super::laws::ContactKey;
 use super::madd::Madd;
 use super::system::System;
 use super::tangent::Tangent;
@@ -128,14 +129,109 @@ pub(super) fn set_contact_sides(ws: &mut Workspace, (from, to): (f64, f64)) {
     }
 }
 
+/// What [`contact_instant_rates`] reads of a trial step whose
+/// sensitivities were integrated: its length, and the stage indices of the
+/// accelerations at its ends ([`TrialStep`]).
+pub(super) struct TrialSens {
+    /// The step h.
+    pub h: f64,
+    /// The stage whose rates are the step end's (the last stage at c = 1,
+    /// else stage 0).
+    pub end: usize,
+}
+
+/// The derivatives in the parameters of each located opening or closing's
+/// instant t* = t + θ h (`ws.contact_marks`), into
+/// `ws.contact_mark_rates`: θ is the root of the cubic p through the
+/// switching function's values and rates at the trial step's ends
+/// ([`find_contact_crossings`]), so `dt*/dx = −h (∂p/∂x)(θ) / p'(θ)`, where
+/// ∂p/∂x is the cubic through the derivatives of those four values, from
+/// the sensitivities at the step's start (`sy_start`), of its stage 0, at
+/// the trial step's end (`sy`, just integrated) and of its last stage.
+/// These are the derivatives of the located instants themselves, not only
+/// of the motion's ([`contact_jumps`]). Out of line and cold, as Bouc–Wen's
+/// (`Stepper::kink_instant_rates`).
+#[cold]
+#[inline(never)]
+pub(super) fn contact_instant_rates<M: Madd>(
+    sys: &System<'_>,
+    tangent: &Tangent,
+    ws: &mut Workspace,
+    step: &TrialSens,
+) {
+    let (n, w, h) = (sys.n, tangent.width, step.h);
+    let n2 = 2 * n;
+    let (sy, sy_start) = (&ws.sy[..], &ws.sy_start[..]);
+    let ks0 = &ws.ks[..n2 * w];
+    let ks1 = &ws.ks[step.end * n2 * w..(step.end + 1) * n2 * w];
+    let (acc0, acc1) = (&ws.k[n..n2], &ws.k[step.end * n2 + n..(step.end + 1) * n2]);
+    ws.contact_mark_rates.clear();
+    ws.contact_mark_rates
+        .resize(ws.contact_marks.len() * w, 0.0);
+    for (m, &(theta, j, of_force)) in ws.contact_marks.iter().enumerate() {
+        let (ct, ends) = (&sys.contacts[j], &ws.contact_ends[j]);
+        let c = &sys.comps[ct.comp];
+        let e = if of_force { &ends[4..] } else { &ends[..4] };
+        let slope = hermite_slope(e[0], e[1], e[2], e[3], theta);
+        if slope == 0.0 || !slope.is_finite() {
+            continue;
+        }
+        // The law at each end, acting, and the acceleration of its closure.
+        let law = &ct.law;
+        let end = |y: &[f64], acc: &[f64]| {
+            let (d, v) = (c.rate::<M>(&y[..n]), c.rate::<M>(&y[n..]));
+            (law.at_side(law.d0 + d, v, 1.0), v, c.rate::<M>(acc))
+        };
+        let ends = [end(&ws.y, acc0), end(&ws.y_new, acc1)];
+        let (statics, keys) = tangent.contact_terms(j);
+        let out = &mut ws.contact_mark_rates[m * w..(m + 1) * w];
+        for (col, o) in out.iter_mut().enumerate() {
+            let stat = statics.get(col).copied().unwrap_or(0.0);
+            let mut d = [0.0; 4];
+            for (i, (s, ks)) in [(sy_start, ks0), (sy, ks1)].into_iter().enumerate() {
+                let (at, v, a) = ends[i];
+                let s_q = stat + c.column_rate(s, 0, w, col);
+                let (s_v, s_a) = (c.column_rate(s, n, w, col), c.column_rate(ks, n, w, col));
+                let (mut value, mut rate) = match of_force {
+                    false => (s_q, s_v),
+                    true => (
+                        at.slope * s_q + law.damping() * s_v,
+                        law.curvature(&at) * s_q * v + at.slope * s_v + law.damping() * s_a,
+                    ),
+                };
+                for &(_, key) in keys.iter().filter(|u| u.0 == col) {
+                    match (of_force, key) {
+                        (false, ContactKey::Gap) => value -= 1.0,
+                        (false, _) => {}
+                        (true, key) => {
+                            let (d_slope, d_damping) = law.small_motion_derivative(&at, key);
+                            value += law.derivative(&at, key);
+                            rate += d_slope * v + d_damping * a;
+                        }
+                    }
+                }
+                d[2 * i] = value;
+                d[2 * i + 1] = h * rate;
+            }
+            *o = -h * hermite(d[0], d[1], d[2], d[3], theta) / slope;
+        }
+    }
+}
+
 /// The jumps of the velocities' sensitivities where a piece of a split
-/// step starts at a located closing at which the force jumps (the
-/// damper's `c ṡ` on closing at a speed): the instant t* where the closure
-/// g = s reaches zero moves with the parameters, `dt*/dx = −(∂g/∂x)/ṡ`
-/// with `∂g/∂x = B Y_q + B ∂q₀/∂x − ∂gap/∂x`, and the accelerations jump
-/// there by `−M⁻¹Bᵀ Δf`, so `ΔY_v = (q̈⁻ − q̈⁺) dt*/dx = −(−M⁻¹Bᵀ) Δf dt*/dx`.
-/// Where the force is continuous (a located zero of the force) nothing
-/// jumps.
+/// step starts at a located opening or closing of a contact. The instant
+/// t* where the switching function g reaches zero moves with the
+/// parameters, `dt*/dx = −(∂g/∂x)/ġ`, and the accelerations jump there by
+/// `−M⁻¹Bᵀ Δf`, so `ΔY_v = (q̈⁻ − q̈⁺) dt*/dx = −(−M⁻¹Bᵀ) Δf dt*/dx`.
+/// - At a closing, g is the closure s = δ − gap: `∂g/∂x = B ∂q₀/∂x +
+///   B Y_q − ∂gap/∂x`, ġ = ṡ, and the force jumps by the damper's `c ṡ`.
+/// - At a zero of the force, g is the force `f(s) + c ṡ`: `∂g/∂x =
+///   f'(s) (B ∂q₀/∂x + B Y_q) + c B Y_v + ∂f/∂key`, `ġ = f'(s) ṡ + c s̈`
+///   (s̈ from stage 0 of the piece after). The force is continuous there,
+///   so Δf is only the computed force at the piece's start, of the order of
+///   the located instant's error; it is what makes the sensitivities the
+///   derivative of the computed response, whose split instants move with
+///   the parameters (as Bouc–Wen's kinks, `stepper`).
 pub(super) fn contact_jumps<M: Madd>(
     sys: &System<'_>,
     tangent: &Tangent,
@@ -145,27 +241,42 @@ pub(super) fn contact_jumps<M: Madd>(
     let (n, w) = (sys.n, tangent.width);
     for (j, ct) in sys.contacts.iter().enumerate() {
         let (before, after) = (ws.contact_sides_before[j], ws.contact_sides[j]);
-        let at_closure = (ws.contact_marks.iter())
-            .any(|&(t, m, force)| m == j && !force && (t - from).abs() < MERGE);
-        if before == after || !at_closure {
+        let mark =
+            (ws.contact_marks.iter()).position(|&(t, m, _)| m == j && (t - from).abs() < MERGE);
+        let Some(mark) = mark.filter(|_| before != after) else {
             continue;
-        }
+        };
+        let of_force = ws.contact_marks[mark].2;
         let c = &sys.comps[ct.comp];
         let (d, v) = (c.rate::<M>(&ws.y[..n]), c.rate::<M>(&ws.y[n..]));
         let jump = ct.law.force_change(d, v, after) - ct.law.force_change(d, v, before);
-        if jump == 0.0 || v == 0.0 {
+        let at = ct.law.at_side(ct.law.d0 + d, v, 1.0);
+        let (slope, damping) = (at.slope, ct.law.damping());
+        let g_dot = match of_force {
+            false => v,
+            true => slope * v + damping * c.rate::<M>(&ws.k[n..2 * n]),
+        };
+        if jump == 0.0 || g_dot == 0.0 || !g_dot.is_finite() {
             continue;
         }
-        let (statics, gap) = tangent.contact_terms(j);
+        let (statics, keys) = tangent.contact_terms(j);
         for col in 0..w {
-            let mut dg = statics.get(col).copied().unwrap_or(0.0);
-            for (i, &b) in c.b.iter().enumerate() {
-                dg += b * ws.sy[(c.off[i / 6] + i % 6) * w + col];
+            let s_q = statics.get(col).copied().unwrap_or(0.0) + c.column_rate(&ws.sy, 0, w, col);
+            let mut dg = match of_force {
+                false => s_q,
+                true => slope * s_q + damping * c.column_rate(&ws.sy, n, w, col),
+            };
+            for &(_, key) in keys.iter().filter(|u| u.0 == col) {
+                dg += match (of_force, key) {
+                    (false, ContactKey::Gap) => -1.0,
+                    (false, _) => 0.0,
+                    (true, key) => ct.law.derivative(&at, key),
+                };
             }
-            if gap.contains(&col) {
-                dg -= 1.0;
-            }
-            let dt = -dg / v;
+            let dt = match ws.contact_mark_rates.get(mark * w + col) {
+                Some(&rate) => rate,
+                None => -dg / g_dot,
+            };
             for (i, &g) in c.g.iter().enumerate() {
                 if g != 0.0 {
                     ws.sy[(n + c.off[i / 6] + i % 6) * w + col] -= g * jump * dt;

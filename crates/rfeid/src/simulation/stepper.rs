@@ -18,8 +18,9 @@
 //! depends on the parameters; its derivative is left out, which changes the
 //! sensitivities by the order of the local error only, because the exact
 //! flow does not depend on where a step is split.
-use super::contact_events::{contact_jumps, find_contact_crossings, TrialStep};
+use super::contact_events::{contact_instant_rates, contact_jumps, find_contact_crossings};
 use super::contact_events::{set_contact_sides, start_contact_sides};
+use super::contact_events::{TrialSens, TrialStep};
 use super::crossings::{cubic_roots, hermite, hermite_root, hermite_slope, push_inside, MERGE};
 use super::dim::Dim;
 use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
@@ -180,11 +181,12 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             self.state_stages(ws, ti, hi);
             if !split && self.locate && self.find_crossings(ws, h) {
                 // Redo the step in pieces ending at the crossings; with
-                // sensitivities and a Bouc–Wen kink among them, after the
-                // trial step's sensitivities, from which the kinks' instants
-                // move (`kink_instant_rates`).
+                // sensitivities and a Bouc–Wen kink or a contact's switch
+                // among them, after the trial step's sensitivities, from
+                // which the located instants move (`kink_instant_rates`,
+                // `contact_instant_rates`).
                 split = true;
-                trial = with_sens && !ws.z.marks.is_empty();
+                trial = with_sens && ws.located_marks();
                 if !trial {
                     continue;
                 }
@@ -195,8 +197,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 self.sens_stages(ws, ti, hi);
             }
             if trial {
-                // The trial step's sensitivities give the kinks' instants'.
-                self.kink_instant_rates(ws, h);
+                // The trial step's sensitivities give the kinks' and the
+                // contacts' instants'.
+                self.instant_rates(ws, h);
                 std::mem::swap(&mut ws.sy, &mut ws.sy_start);
                 std::mem::swap(&mut ws.z.sy, &mut ws.z.sy_start);
                 trial = false;
@@ -414,6 +417,23 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
 }
 
 impl<M: Madd, D: Dim> Stepper<'_, M, D> {
+    /// The derivatives in the parameters of the instants located in a
+    /// trial step whose sensitivities were just integrated: Bouc–Wen's
+    /// kinks' ([`Self::kink_instant_rates`]) and the contacts' openings and
+    /// closings' ([`contact_instant_rates`]). Out of line and cold, as they.
+    #[cold]
+    #[inline(never)]
+    fn instant_rates(&self, ws: &mut Workspace, h: f64) {
+        if !ws.z.marks.is_empty() {
+            self.kink_instant_rates(ws, h);
+        }
+        if !ws.contact_marks.is_empty() {
+            let end = self.end_stage.unwrap_or(0);
+            let step = TrialSens { h, end };
+            contact_instant_rates::<M>(self.sys, &self.tangent, ws, &step);
+        }
+    }
+
     /// The derivatives in the parameters of each located Bouc–Wen kink's
     /// instant t* = t + θ h (`ws.z.marks`), into `ws.z.mark_rates`: θ is the
     /// root of the trial step's cubic p through the kink's value g (v or z)

@@ -85,10 +85,15 @@ pub(crate) struct Tangent {
     hysteresis: Vec<Vec<(usize, HysteresisKey)>>,
     /// For each contact ([`System::contacts`]), `B ∂q₀/∂x` ([`static_columns`],
     /// empty without a static equilibrium moving with x) and the columns
-    /// of the parameters standing for its gap: what the instant of a
-    /// located closing moves with (`contact_events`).
-    contacts: Vec<(Vec<f64>, Vec<usize>)>,
+    /// of the parameters acting on its law, with their keys: what the
+    /// instant of a located opening or closing moves with
+    /// (`contact_events`).
+    contacts: Vec<ContactTerms>,
 }
+
+/// A contact's `B ∂q₀/∂x` and the (column, key) of its law's parameters
+/// ([`Tangent::contact_terms`]).
+type ContactTerms = (Vec<f64>, Vec<(usize, ContactKey)>);
 
 impl Tangent {
     /// Gathers the components and parameters of `sys` that the sensitivities
@@ -177,8 +182,9 @@ impl Tangent {
         &self.hysteresis
     }
 
-    /// Contact j's `B ∂q₀/∂x` (empty without one) and its gap's columns.
-    pub fn contact_terms(&self, j: usize) -> (&[f64], &[usize]) {
+    /// Contact j's `B ∂q₀/∂x` (empty without one) and the columns of its
+    /// law's parameters, with their keys.
+    pub fn contact_terms(&self, j: usize) -> (&[f64], &[(usize, ContactKey)]) {
         self.contacts
             .get(j)
             .map_or((&[][..], &[][..]), |(s, g)| (&s[..], &g[..]))
@@ -376,23 +382,25 @@ fn hysteresis_usages(sys: &System<'_>, wrt: &[usize]) -> Vec<Vec<(usize, Hystere
 }
 
 /// For each contact of `sys`, its `B ∂q₀/∂x` and the columns of its
-/// gap's parameters ([`Tangent::contact_terms`]), from the usages per
-/// component.
+/// law's parameters with their keys ([`Tangent::contact_terms`]), from the
+/// usages per component.
 fn contact_terms(
     sys: &System<'_>,
     usages: &[Vec<(usize, Usage)>],
     r: usize,
     width: usize,
-) -> Vec<(Vec<f64>, Vec<usize>)> {
+) -> Vec<ContactTerms> {
     sys.contacts
         .iter()
         .map(|ct| {
             let row = &sys.structure.components[ct.comp].row;
-            let gap = (usages[ct.comp].iter())
-                .filter(|(_, u)| matches!(u, Usage::Contact(_, ContactKey::Gap)))
-                .map(|(col, _)| *col)
+            let keys = (usages[ct.comp].iter())
+                .filter_map(|&(col, u)| match u {
+                    Usage::Contact(_, key) => Some((col, key)),
+                    _ => None,
+                })
                 .collect();
-            (static_columns(sys, row, r, width), gap)
+            (static_columns(sys, row, r, width), keys)
         })
         .collect()
 }

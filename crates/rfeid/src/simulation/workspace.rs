@@ -57,6 +57,10 @@ pub struct Workspace {
     pub(super) contact_start_sides: Vec<f64>,
     pub(super) contact_ends: Vec<[f64; 8]>,
     pub(super) contact_marks: Vec<(f64, usize, bool)>,
+    /// The derivatives in the parameters of each located opening's or
+    /// closing's instant (`contact_events::contact_instant_rates`), marks ×
+    /// the tangent's width.
+    pub(super) contact_mark_rates: Vec<f64>,
 }
 
 /// The internal states z of a run (`hysteresis`): the state, its stages
@@ -90,6 +94,15 @@ pub struct InternalStates {
 }
 
 impl Workspace {
+    /// Whether the trial step just taken located a Bouc–Wen kink or a
+    /// contact's opening or closing, whose instants' derivatives need the
+    /// trial step's sensitivities (`Stepper::step`). Out of line: a call in
+    /// the step's loop, not code the compiler may mix into its stages.
+    #[inline(never)]
+    pub(super) fn located_marks(&self) -> bool {
+        !(self.z.marks.is_empty() && self.contact_marks.is_empty())
+    }
+
     /// Sizes the buffers for the equations `sys`, a method of `stages` stages,
     /// sensitivity rows `width` long (zero without sensitivities), the
     /// sensitivities' `scratch` and `sine_terms` phases; zero-fills them.
@@ -111,8 +124,10 @@ impl Workspace {
         resize(&mut self.k, stages * n2);
         resize(&mut self.sy, n2 * width);
         resize(&mut self.sy_stage, n2 * width);
-        // Only Bouc–Wen kinks need the trial step's sensitivities.
-        resize(&mut self.sy_start, if nz > 0 { n2 * width } else { 0 });
+        // Only located Bouc–Wen kinks and contact switches need the trial
+        // step's sensitivities.
+        let trials = nz > 0 || !sys.contacts.is_empty();
+        resize(&mut self.sy_start, if trials { n2 * width } else { 0 });
         resize(&mut self.ks, stages * n2 * width);
         resize(&mut self.z.y, nz);
         resize(&mut self.z.y_new, nz);
@@ -146,6 +161,7 @@ impl Workspace {
         self.contact_ends.clear();
         self.contact_ends.resize(sys.contacts.len(), [0.0; 8]);
         self.contact_marks.clear();
+        self.contact_mark_rates.clear();
     }
 }
 
