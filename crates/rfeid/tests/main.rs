@@ -47,6 +47,7 @@ mod import_no_time_axis;
 mod import_robustness;
 mod import_uff;
 mod jacobian_by_blocks;
+mod kept_runs;
 mod knee_column_reference;
 mod lab_data;
 mod model_file_errors;

@@ -34,6 +34,7 @@ use std::time::Instant;
 
 mod count;
 mod factor;
+mod kept;
 mod part;
 mod steps;
 mod watch;
@@ -85,6 +86,8 @@ pub struct OutputError<'m> {
     jacobian_memory: usize,
     /// Samples per block when the Jacobian is taken by blocks.
     block_samples: usize,
+    /// The last runs with sensitivities, if kept ([`OutputError::keep_runs`]).
+    kept: kept::KeptRuns,
 }
 
 /// The default of [`OutputError::set_jacobian_memory`]: 256 MiB, a
@@ -181,6 +184,7 @@ impl<'m> OutputError<'m> {
             cancel: Cancel::new(),
             jacobian_memory: DEFAULT_JACOBIAN_MEMORY,
             block_samples: factor::BLOCK_SAMPLES,
+            kept: kept::KeptRuns::default(),
         }
     }
 
@@ -524,21 +528,21 @@ impl LeastSquares for OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> Result<(), SimulationError> {
+        if self.linearise_kept(ws, u, r, jac) {
+            return Ok(());
+        }
         if self.parts.len() == 1 {
-            return self.each_part(ws, r, Some(jac), true, |part, pws, r, jac| {
+            self.each_part(ws, r, Some(jac), true, |part, pws, r, jac| {
                 part.residuals_jacobian(pws, u, &self.maps, r, jac.map(|j| (j, 0)))
-            });
+            })?;
+            self.keep(&ws.parts);
+            return Ok(());
         }
         self.each_part(ws, r, None, true, |part, pws, r, _| {
             part.residuals_jacobian(pws, u, &self.maps, r, None)
         })?;
-        for (part, pws) in self.parts.iter().zip(&ws.parts) {
-            let rows = part.n_residuals();
-            for j in 0..jac.ncols() {
-                jac.view_mut((part.row0, j), (rows, 1))
-                    .copy_from(&pws.jac.column(j));
-            }
-        }
+        self.keep(&ws.parts);
+        self.gather_jacobian(ws, jac);
         Ok(())
     }
 

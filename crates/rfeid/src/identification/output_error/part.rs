@@ -139,7 +139,6 @@ impl Part<'_> {
         r: &mut [f64],
         jac: Option<(&mut DMatrix<f64>, usize)>,
     ) -> Result<(), SimulationError> {
-        let n_cols = maps.len();
         self.all_params(u, maps, &mut ws.params);
         self.data.sim.run_with_sensitivities(
             &ws.params,
@@ -148,6 +147,21 @@ impl Part<'_> {
             &mut ws.response,
             &mut ws.sens,
         )?;
+        self.linearise(ws, u, maps, r, jac);
+        Ok(())
+    }
+
+    /// [`Part::residuals_jacobian`] from the run with sensitivities the
+    /// workspace holds (at `u`).
+    pub(super) fn linearise(
+        &self,
+        ws: &mut PartWorkspace,
+        u: &[f64],
+        maps: &[BoxMap],
+        r: &mut [f64],
+        jac: Option<(&mut DMatrix<f64>, usize)>,
+    ) {
+        let n_cols = maps.len();
         self.fill_residuals(&ws.response, r);
         for (d, &c) in ws.dx_du.iter_mut().zip(&self.cols) {
             *d = maps[c].derivative(u[c]);
@@ -185,6 +199,5 @@ impl Part<'_> {
                 }
             }
         }
-        Ok(())
     }
 }

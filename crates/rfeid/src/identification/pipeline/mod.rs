@@ -146,9 +146,8 @@ fn finish_stages(
     let before = problem.tally();
     let searcher = Searcher::new(settings, problem.n_params(), progress)?;
     let t_local = Instant::now();
-    let mut ends = starts::run(&problem, &searcher, &plan)?;
-    weights::before_restarts(&mut problem, &searcher, &mut ends)?;
-    let judged = restarts::run(&problem, &searcher, &mut plan, &mut ends);
+    let mut ends = first_searches(&mut problem, &searcher, &plan)?;
+    let judged = restarts::run(&problem.clone(), &searcher, &mut plan, &mut ends);
     let (best, kept) = best_end(&problem, ends.searches, &judged)
         .ok_or_else(|| IdentifyError::AllStartsFailed(ends.failures.clone()))?;
     let best = match settings.weighting {
@@ -159,6 +158,7 @@ fn finish_stages(
         Weighting::Equal => best,
     };
     let (best, step_warnings) = accuracy::check(&mut problem, &searcher, best)?;
+    problem.keep_runs(false);
     let t_local = t_local.elapsed().as_secs_f64();
     let t_bounds = Instant::now();
     let bounds = bounds::at(
@@ -206,6 +206,22 @@ fn finish_stages(
         profiles,
     };
     Ok(assemble(&problem, settings, found))
+}
+
+/// The first searches and the reweighting before the restarts, one after
+/// the other: from here until the accuracy check, a search that starts
+/// where one ended takes its first Jacobian from that one's runs
+/// ([`OutputError::keep_runs`]). The restarts, which search at once, take
+/// a clone, which keeps none.
+fn first_searches(
+    problem: &mut OutputError<'_>,
+    searcher: &Searcher<'_>,
+    plan: &PlanRun<'_, '_>,
+) -> Result<starts::Ends, IdentifyError> {
+    problem.keep_runs(true);
+    let mut ends = starts::run(problem, searcher, plan)?;
+    weights::before_restarts(problem, searcher, &mut ends)?;
+    Ok(ends)
 }
 
 /// The search with the lowest J among those the restarts kept, and the

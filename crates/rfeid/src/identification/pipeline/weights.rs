@@ -67,6 +67,22 @@ pub(super) fn before_restarts(
 pub(super) fn estimate(
     problem: &mut OutputError<'_>,
     searcher: &Searcher<'_>,
+    best: SearchOutcome,
+    noise_model: NoiseModel,
+) -> Result<SearchOutcome, IdentifyError> {
+    // Each round's search starts where the one before ended: its first
+    // Jacobian is the runs that one ended with, weighted anew.
+    let kept = problem.keeps_runs();
+    problem.keep_runs(true);
+    let best = reweighted(problem, searcher, best, noise_model);
+    problem.keep_runs(kept);
+    best
+}
+
+/// The rounds of [`estimate`].
+fn reweighted(
+    problem: &mut OutputError<'_>,
+    searcher: &Searcher<'_>,
     mut best: SearchOutcome,
     noise_model: NoiseModel,
 ) -> Result<SearchOutcome, IdentifyError> {

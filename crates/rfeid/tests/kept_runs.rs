@@ -1,0 +1,128 @@
+//! Runs kept between searches (`OutputError::keep_runs`): a search that
+//! starts where the last one ended, under new sensor weights, takes its
+//! first residuals and Jacobian from that one's runs. Its end is the same
+//! bit for bit as with a new run, and it simulates once fewer; a clone, or
+//! other steps per sample, keep nothing and simulate again.
+use rfeid::identification::lm::{LevenbergMarquardt, LmResult};
+use rfeid::identification::output_error::{ExperimentData, OutputError};
+use rfeid::identification::problem::LeastSquares;
+use rfeid::io::model_file::load_model;
+use rfeid::measurement::add_noise;
+use rfeid::model::Model;
+use rfeid::simulation::{SimulationError, Simulator, StepChoice, Workspace};
+use std::path::Path;
+
+fn knee_column() -> Model {
+    load_model(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/knee-column/model.toml"))
+        .expect("example loads")
+}
+
+/// The knee–column's criterion against its response with 2 % noise, one
+/// experiment per seed of `seeds` (a campaign for several).
+fn criterion<'m>(model: &'m Model, seeds: &[u64]) -> OutputError<'m> {
+    let experiments = seeds
+        .iter()
+        .map(|&seed| {
+            let sim = Simulator::new(model);
+            let mut measured = sim.response_buffer();
+            sim.run(&model.nominal(), &mut Workspace::default(), &mut measured)
+                .expect("simulates");
+            add_noise(&mut measured, 0.02, seed);
+            ExperimentData {
+                name: format!("e{seed}"),
+                sim,
+                measured,
+                first: 0,
+                weight: 1.0,
+            }
+        })
+        .collect();
+    OutputError::campaign(experiments)
+}
+
+fn search(problem: &OutputError<'_>, u0: &[f64]) -> LmResult<SimulationError> {
+    LevenbergMarquardt::default()
+        .minimize(problem, u0)
+        .expect("the search runs")
+}
+
+/// Two searches on each of two criteria, one keeping its runs: the second
+/// search starts where the first ended, under other sensor weights. The
+/// second searches end the same bit for bit (point, J, residuals, Jacobian,
+/// iterations), the keeping criterion with one run with sensitivities
+/// fewer per experiment.
+fn second_searches(seeds: &[u64]) {
+    let model = knee_column();
+    let (mut fresh, mut keeping) = (criterion(&model, seeds), criterion(&model, seeds));
+    keeping.keep_runs(true);
+    assert!(keeping.keeps_runs() && !fresh.keeps_runs());
+    let u0 = vec![0.35; fresh.n_params()];
+    let (a, b) = (search(&fresh, &u0), search(&keeping, &u0));
+    assert_eq!(
+        (a.u.clone(), a.cost),
+        (b.u.clone(), b.cost),
+        "first searches"
+    );
+    let weights: Vec<f64> = (0..fresh.weights().len())
+        .map(|c| [1.0, 3.0, 0.5][c % 3])
+        .collect();
+    fresh.set_weights(&weights);
+    keeping.set_weights(&weights);
+    let (before_a, before_b) = (fresh.tally(), keeping.tally());
+    assert_eq!(before_a, before_b);
+    let (a2, b2) = (search(&fresh, &a.u), search(&keeping, &b.u));
+    let (ran_a, ran_b) = (
+        fresh.tally().with_sensitivities - before_a.with_sensitivities,
+        keeping.tally().with_sensitivities - before_b.with_sensitivities,
+    );
+    eprintln!(
+        "{} experiment(s): second search {} iterations, {ran_a} runs with sensitivities fresh, {ran_b} keeping",
+        seeds.len(),
+        a2.iterations
+    );
+    assert_eq!(a2.u, b2.u);
+    assert_eq!(a2.cost.to_bits(), b2.cost.to_bits());
+    assert_eq!(a2.residuals, b2.residuals);
+    assert_eq!(a2.jacobian, b2.jacobian);
+    assert_eq!(a2.history.len(), b2.history.len());
+    assert_eq!(ran_b, ran_a - seeds.len(), "one run per experiment fewer");
+}
+
+#[test]
+fn a_search_from_the_last_end_reuses_its_runs_bit_for_bit() {
+    second_searches(&[1]);
+}
+
+#[test]
+fn a_campaigns_search_from_the_last_end_reuses_every_experiments_runs() {
+    second_searches(&[1, 2]);
+}
+
+/// A clone keeps no runs, and other steps per sample are another run: a
+/// search there simulates again.
+#[test]
+fn a_clone_and_other_steps_keep_nothing() {
+    let model = knee_column();
+    let mut keeping = criterion(&model, &[1]);
+    keeping.keep_runs(true);
+    let u0 = vec![0.35; keeping.n_params()];
+    let first = search(&keeping, &u0);
+    let clone = keeping.clone();
+    assert!(!clone.keeps_runs());
+    let with_sens = |p: &OutputError<'_>| p.tally().with_sensitivities;
+    let before = with_sens(&keeping);
+    search(&clone, &first.u);
+    assert!(with_sens(&keeping) > before, "the clone simulated");
+    let before = with_sens(&keeping);
+    let steps = keeping.experiment_simulator(0).steps();
+    keeping.set_experiment_steps(
+        0,
+        StepChoice {
+            substeps: steps.substeps + 1,
+            ..steps
+        },
+    );
+    let again = search(&keeping, &first.u);
+    assert!(with_sens(&keeping) > before, "other steps simulated");
+    assert!(again.cost.is_finite());
+}
