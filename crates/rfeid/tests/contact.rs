@@ -36,9 +36,9 @@ fn contact_model(gap: &str) -> Model {
 
 /// The sensitivities of the slide's and the base's displacements and the
 /// slide's velocity to the contact's k, c and gap at 32 steps per sample,
-/// against the five-point stencil of runs at the same steps, each
-/// column's error in units of its RMS, to 1e-6; the kernels agree to
-/// rounding. Touching at rest (gap 0), preloaded (−5 µm) and open at rest
+/// against the five-point stencil of runs at the same steps
+/// ([`stencil_errors`]), each column's error in units of its RMS, to 1e-6;
+/// the kernels agree to rounding. Touching at rest (gap 0), preloaded (−5 µm) and open at rest
 /// (+2 µm). At gap 0 exactly the static equilibrium has a kink in the gap
 /// (a preload for gap < 0, none for gap > 0), so no derivative in it
 /// exists there: only k and c are compared. The stencil's steps: 1e-6 of
@@ -48,31 +48,11 @@ fn contact_model(gap: &str) -> Model {
 /// At coarser steps: [`sensitivities_at_coarse_steps_are_the_computed_responses_derivative`].
 #[test]
 fn sensitivities_through_openings_and_closings_match_finite_differences() {
-    for gap in ["0 m", "-5e-6 m", "2e-6 m"] {
-        let model = contact_model(gap);
-        let wrt: Vec<usize> = (0..model.parameters.len())
-            .filter(|&p| gap != "0 m" || model.parameters[p].name != "gap")
-            .collect();
-        let x = model.nominal();
-        let mut columns = Vec::new();
-        for kernel in [Kernel::Dense, Kernel::Sparse] {
-            let mut sim = Simulator::with_integrator(&model, integrator(32));
-            sim.set_kernel(kernel);
-            let mut ws = Workspace::default();
-            let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, &wrt);
-            for (&p, col) in wrt.iter().zip(cols) {
-                let name = &model.parameters[p].name;
-                let h = match name.as_str() {
-                    "gap" => 1e-10,
-                    "k_contact" => 1e-6 * x[p],
-                    _ => 1e-5 * x[p],
-                };
-                let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
-                eprintln!("gap {gap}, {kernel:?}, {name}: {err:.2e} of the column's RMS");
-                assert!(err < 1e-6, "gap {gap}, {kernel:?}, {name}: {err:.2e}");
-                columns.push(col);
-            }
-        }
+    let (errors, columns) = stencil_errors(32);
+    for (what, err) in errors {
+        assert!(err < 1e-6, "{what}: {err:.2e}");
+    }
+    for (gap, columns) in columns {
         assert_kernels_agree(gap, &columns);
     }
 }
@@ -224,17 +204,22 @@ value = "-5e-6 m"
     }
 }
 
-/// The sensitivities' errors against the five-point stencil (as
-/// [`sensitivities_through_openings_and_closings_match_finite_differences`])
-/// at a fixed `steps` per sample, for each gap and key, on both kernels.
-fn coarse_errors(steps: usize) -> Vec<(String, f64)> {
-    let mut errors = Vec::new();
+/// Each gap's sensitivity columns, the dense kernel's then the sparse one's.
+type GapColumns = Vec<(&'static str, Vec<Vec<f64>>)>;
+
+/// The sensitivities' errors against the five-point stencil at a fixed
+/// `steps` per sample, for each gap and key on both kernels (each column's
+/// error in units of its RMS, named), and each gap's columns, the dense
+/// kernel's then the sparse one's.
+fn stencil_errors(steps: usize) -> (Vec<(String, f64)>, GapColumns) {
+    let (mut errors, mut by_gap) = (Vec::new(), Vec::new());
     for gap in ["0 m", "-5e-6 m", "2e-6 m"] {
         let model = contact_model(gap);
         let wrt: Vec<usize> = (0..model.parameters.len())
             .filter(|&p| gap != "0 m" || model.parameters[p].name != "gap")
             .collect();
         let x = model.nominal();
+        let mut columns = Vec::new();
         for kernel in [Kernel::Dense, Kernel::Sparse] {
             let mut sim = Simulator::with_integrator(&model, integrator(steps));
             sim.set_kernel(kernel);
@@ -251,10 +236,12 @@ fn coarse_errors(steps: usize) -> Vec<(String, f64)> {
                 let what = format!("{steps} steps, gap {gap}, {kernel:?}, {name}");
                 eprintln!("{what}: {err:.2e} of the column's RMS");
                 errors.push((what, err));
+                columns.push(col);
             }
         }
+        by_gap.push((gap, columns));
     }
-    errors
+    (errors, by_gap)
 }
 
 /// At the coarse steps the identification takes (1 per sample in the
@@ -275,10 +262,10 @@ fn coarse_errors(steps: usize) -> Vec<(String, f64)> {
 /// the old errors fails it.
 #[test]
 fn sensitivities_at_coarse_steps_are_the_computed_responses_derivative() {
-    for (what, err) in coarse_errors(4) {
+    for (what, err) in stencil_errors(4).0 {
         assert!(err < 1e-6, "{what}: {err:.2e}");
     }
-    for (what, err) in coarse_errors(1) {
+    for (what, err) in stencil_errors(1).0 {
         assert!(err < 3e-6, "{what}: {err:.2e}");
     }
 }
