@@ -126,3 +126,27 @@ fn a_clone_and_other_steps_keep_nothing() {
     assert!(with_sens(&keeping) > before, "other steps simulated");
     assert!(again.cost.is_finite());
 }
+
+/// The residuals where the last run with sensitivities was kept (the
+/// bounds' check at the estimate) are its response's, bit for bit those of
+/// a plain run, with no simulation.
+#[test]
+fn residuals_at_a_kept_run_are_a_plain_runs_without_simulating() {
+    let model = knee_column();
+    let (fresh, mut keeping) = (criterion(&model, &[1, 2]), criterion(&model, &[1, 2]));
+    keeping.keep_runs(true);
+    let u0 = vec![0.35; fresh.n_params()];
+    let end = search(&keeping, &u0);
+    let n = fresh.n_residuals();
+    let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+    fresh
+        .residuals(&mut fresh.workspace(), &end.u, &mut a)
+        .expect("simulates");
+    let before = keeping.tally();
+    keeping
+        .residuals(&mut keeping.workspace(), &end.u, &mut b)
+        .expect("kept");
+    assert_eq!(keeping.tally(), before, "no simulation");
+    assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert_eq!(b, end.residuals);
+}

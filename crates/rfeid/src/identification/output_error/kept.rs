@@ -3,7 +3,8 @@
 //! (`pipeline::weights`) ends one search and starts the next at the same
 //! point: the Jacobian the first ended with, under the new weights, is the
 //! same runs weighted anew, so the next takes its first residuals and
-//! Jacobian from them instead of simulating again. A kept run is used only
+//! Jacobian from them instead of simulating again, and the bounds their
+//! residuals at the estimate. A kept run is used only
 //! for the same parameter values (to the bit), integrator and kernel, so
 //! the residuals and the Jacobian are those of a new run bit for bit; it is
 //! not a simulation, and is not counted as one.
@@ -66,9 +67,10 @@ impl OutputError<'_> {
     }
 
     /// Copies into the workspaces the kept run of every experiment at the
-    /// parameters the workspaces hold (`PartWorkspace::params`), if every
-    /// one is kept; returns whether they were.
-    pub(super) fn take_kept(&self, ws: &mut [PartWorkspace]) -> bool {
+    /// parameters the workspaces hold (`PartWorkspace::params`), its
+    /// response and, if `sens`, its sensitivities, if every one is kept;
+    /// returns whether they were.
+    pub(super) fn take_kept(&self, ws: &mut [PartWorkspace], sens: bool) -> bool {
         let Some(kept) = &self.kept.0 else {
             return false;
         };
@@ -83,7 +85,9 @@ impl OutputError<'_> {
         if hit {
             for (pws, run) in ws.iter_mut().zip(kept.iter().flatten()) {
                 pws.response.clone_from(&run.response);
-                pws.sens.clone_from(&run.sens);
+                if sens {
+                    pws.sens.clone_from(&run.sens);
+                }
             }
         }
         hit
@@ -123,10 +127,13 @@ impl OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> bool {
+        if !self.keeps_runs() {
+            return false;
+        }
         for (part, pws) in self.parts.iter().zip(&mut ws.parts) {
             part.all_params(u, &self.maps, &mut pws.params);
         }
-        if !self.take_kept(&mut ws.parts) {
+        if !self.take_kept(&mut ws.parts, true) {
             return false;
         }
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
@@ -138,6 +145,31 @@ impl OutputError<'_> {
             part.linearise(pws, u, &self.maps, r, None);
         }
         self.gather_jacobian(ws, jac);
+        true
+    }
+
+    /// The residuals at `u` from the kept runs' responses (a run with
+    /// sensitivities gives the plain run's response bit for bit), if every
+    /// experiment's is kept there; returns whether they were.
+    pub(super) fn residuals_kept(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        u: &[f64],
+        r: &mut [f64],
+    ) -> bool {
+        if !self.keeps_runs() {
+            return false;
+        }
+        for (part, pws) in self.parts.iter().zip(&mut ws.parts) {
+            part.all_params(u, &self.maps, &mut pws.params);
+        }
+        if !self.take_kept(&mut ws.parts, false) {
+            return false;
+        }
+        let rows = self.split_rows(r);
+        for ((part, pws), r) in self.parts.iter().zip(&ws.parts).zip(rows) {
+            part.fill_residuals(&pws.response, r);
+        }
         true
     }
 

@@ -516,6 +516,9 @@ impl LeastSquares for OutputError<'_> {
         u: &[f64],
         r: &mut [f64],
     ) -> Result<(), SimulationError> {
+        if self.residuals_kept(ws, u, r) {
+            return Ok(());
+        }
         self.each_part(ws, r, None, false, |part, pws, r, _| {
             part.residuals(pws, u, &self.maps, r)
         })

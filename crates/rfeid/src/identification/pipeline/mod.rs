@@ -158,7 +158,6 @@ fn finish_stages(
         Weighting::Equal => best,
     };
     let (best, step_warnings) = accuracy::check(&mut problem, &searcher, best)?;
-    problem.keep_runs(false);
     let t_local = t_local.elapsed().as_secs_f64();
     let t_bounds = Instant::now();
     let bounds = bounds::at(
@@ -168,6 +167,7 @@ fn finish_stages(
         &settings.uncertainty,
         settings.weighting == Weighting::Equal,
     );
+    problem.keep_runs(false);
     let t_bounds = t_bounds.elapsed().as_secs_f64();
     let t_profiles = Instant::now();
     let (profiles, profile_warnings) =
@@ -209,7 +209,7 @@ fn finish_stages(
 }
 
 /// The first searches and the reweighting before the restarts, one after
-/// the other: from here until the accuracy check, a search that starts
+/// the other: from here until the bounds, a search that starts
 /// where one ended takes its first Jacobian from that one's runs
 /// ([`OutputError::keep_runs`]). The restarts, which search at once, take
 /// a clone, which keeps none.
