@@ -3,11 +3,13 @@
 //! (`pipeline::weights`) ends one search and starts the next at the same
 //! point: the Jacobian the first ended with, under the new weights, is the
 //! same runs weighted anew, so the next takes its first residuals and
-//! Jacobian from them instead of simulating again, and the bounds their
-//! residuals at the estimate. A kept run is used only
-//! for the same parameter values (to the bit), integrator and kernel, so
-//! the residuals and the Jacobian are those of a new run bit for bit; it is
-//! not a simulation, and is not counted as one.
+//! Jacobian from them instead of simulating again; the bounds at the
+//! estimate take theirs, or the residuals that check a refining search's,
+//! from them too. A kept run is used only for the same parameter values
+//! (to the bit), integrator and kernel, so the residuals and the Jacobian
+//! are those of a new run bit for bit (a run with sensitivities gives the
+//! plain run's response bit for bit); it is not a simulation, and is not
+//! counted as one.
 use super::part::PartWorkspace;
 use super::{OutputError, OutputErrorWorkspace};
 use crate::simulation::{Integrator, Kernel, Response, Sensitivities, Simulator};
