@@ -68,14 +68,18 @@ impl OutputError<'_> {
         self.kept.0.is_some()
     }
 
-    /// Copies into the workspaces the kept run of every experiment at the
-    /// parameters the workspaces hold (`PartWorkspace::params`), its
-    /// response and, if `sens`, its sensitivities, if every one is kept;
-    /// returns whether they were.
-    pub(super) fn take_kept(&self, ws: &mut [PartWorkspace], sens: bool) -> bool {
+    /// Copies into the workspaces the kept run of every experiment at `u`
+    /// (the parameters into `PartWorkspace::params`), its response and, if
+    /// `sens`, its sensitivities, if every one is kept; returns whether
+    /// they were.
+    fn take_kept(&self, ws: &mut OutputErrorWorkspace, u: &[f64], sens: bool) -> bool {
         let Some(kept) = &self.kept.0 else {
             return false;
         };
+        let ws = &mut ws.parts[..];
+        for (part, pws) in self.parts.iter().zip(ws.iter_mut()) {
+            part.all_params(u, &self.maps, &mut pws.params);
+        }
         let Ok(kept) = kept.lock() else {
             return false;
         };
@@ -129,13 +133,7 @@ impl OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> bool {
-        if !self.keeps_runs() {
-            return false;
-        }
-        for (part, pws) in self.parts.iter().zip(&mut ws.parts) {
-            part.all_params(u, &self.maps, &mut pws.params);
-        }
-        if !self.take_kept(&mut ws.parts, true) {
+        if !self.take_kept(ws, u, true) {
             return false;
         }
         if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
@@ -159,13 +157,7 @@ impl OutputError<'_> {
         u: &[f64],
         r: &mut [f64],
     ) -> bool {
-        if !self.keeps_runs() {
-            return false;
-        }
-        for (part, pws) in self.parts.iter().zip(&mut ws.parts) {
-            part.all_params(u, &self.maps, &mut pws.params);
-        }
-        if !self.take_kept(&mut ws.parts, false) {
+        if !self.take_kept(ws, u, false) {
             return false;
         }
         let rows = self.split_rows(r);
