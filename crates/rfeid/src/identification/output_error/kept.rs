@@ -21,7 +21,7 @@ use std::sync::Mutex;
 /// and searches run at once on one criterion would otherwise take each
 /// other's runs, and their tallies would depend on the threads.
 #[derive(Debug, Default)]
-pub(super) struct KeptRuns(Option<Mutex<Vec<Option<KeptRun>>>>);
+pub(super) struct KeptRuns(Option<Mutex<Vec<KeptRun>>>);
 
 impl Clone for KeptRuns {
     fn clone(&self) -> Self {
@@ -68,55 +68,65 @@ impl OutputError<'_> {
         self.kept.0.is_some()
     }
 
-    /// Copies into the workspaces the kept run of every experiment at `u`
-    /// (the parameters into `PartWorkspace::params`), its response and, if
-    /// `sens`, its sensitivities, if every one is kept; returns whether
-    /// they were.
-    fn take_kept(&self, ws: &mut OutputErrorWorkspace, u: &[f64], sens: bool) -> bool {
+    /// Calls `f` with the workspaces and every experiment's kept run at
+    /// `u` (the parameters into `PartWorkspace::params`), if every one is
+    /// kept there; returns whether they were.
+    fn with_kept(
+        &self,
+        ws: &mut OutputErrorWorkspace,
+        u: &[f64],
+        f: impl FnOnce(&mut OutputErrorWorkspace, &[&KeptRun]),
+    ) -> bool {
         let Some(kept) = &self.kept.0 else {
             return false;
         };
-        let ws = &mut ws.parts[..];
-        for (part, pws) in self.parts.iter().zip(ws.iter_mut()) {
+        for (part, pws) in self.parts.iter().zip(ws.parts.iter_mut()) {
             part.all_params(u, &self.maps, &mut pws.params);
         }
         let Ok(kept) = kept.lock() else {
             return false;
         };
-        let hit = kept.len() == self.parts.len()
-            && (self.parts.iter().zip(ws.iter()).zip(kept.iter())).all(|((part, pws), run)| {
-                run.as_ref()
-                    .is_some_and(|run| run.matches(&part.data.sim, &pws.params))
-            });
+        let runs: Vec<&KeptRun> = kept.iter().collect();
+        let hit = runs.len() == self.parts.len()
+            && (self.parts.iter().zip(&ws.parts).zip(&runs))
+                .all(|((part, pws), run)| run.matches(&part.data.sim, &pws.params));
         if hit {
-            for (pws, run) in ws.iter_mut().zip(kept.iter().flatten()) {
-                pws.response.clone_from(&run.response);
-                if sens {
-                    pws.sens.clone_from(&run.sens);
-                }
-            }
+            f(ws, &runs);
         }
         hit
     }
 
-    /// Keeps the runs the workspaces hold (just made, at their
-    /// `params`), if runs are kept.
-    pub(super) fn keep(&self, ws: &[PartWorkspace]) {
+    /// Forgets the kept runs (before new ones are made, so that the old
+    /// and the new are not held at once).
+    pub(super) fn forget_kept(&self) {
+        if let Some(Ok(mut kept)) = self.kept.0.as_ref().map(|k| k.lock()) {
+            kept.clear();
+        }
+    }
+
+    /// Keeps the runs the workspaces hold (just made, at their `params`),
+    /// if runs are kept: the sensitivities move out of the workspaces,
+    /// which the next run fills anew, and the response is copied.
+    pub(super) fn keep(&self, ws: &mut [PartWorkspace]) {
         let Some(kept) = &self.kept.0 else {
             return;
         };
         let Ok(mut kept) = kept.lock() else {
             return;
         };
-        kept.resize_with(self.parts.len(), || None);
-        for ((part, pws), run) in self.parts.iter().zip(ws).zip(kept.iter_mut()) {
+        kept.clear();
+        for (part, pws) in self.parts.iter().zip(ws) {
             let sim = &part.data.sim;
-            *run = Some(KeptRun {
+            let none = Sensitivities {
+                wrt: Vec::new(),
+                values: Vec::new(),
+            };
+            kept.push(KeptRun {
                 params: pws.params.clone(),
                 integrator: sim.integrator(),
                 kernel: sim.kernel(),
                 response: pws.response.clone(),
-                sens: pws.sens.clone(),
+                sens: std::mem::replace(&mut pws.sens, none),
             });
         }
     }
@@ -133,19 +143,21 @@ impl OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> bool {
-        if !self.take_kept(ws, u, true) {
-            return false;
-        }
-        if let ([part], [pws]) = (self.parts.as_slice(), ws.parts.as_mut_slice()) {
-            part.linearise(pws, u, &self.maps, r, Some((jac, 0)));
-            return true;
-        }
-        let rows = self.split_rows(r);
-        for ((part, pws), r) in self.parts.iter().zip(&mut ws.parts).zip(rows) {
-            part.linearise(pws, u, &self.maps, r, None);
-        }
-        self.gather_jacobian(ws, jac);
-        true
+        self.with_kept(ws, u, |ws, runs| {
+            let at = (u, &self.maps[..]);
+            if let ([part], [pws], [run]) = (&self.parts[..], &mut ws.parts[..], runs) {
+                let own = (&mut pws.dx_du[..], &mut pws.jac);
+                part.linearise((&run.response, &run.sens), own, at, r, Some((jac, 0)));
+                return;
+            }
+            let rows = self.split_rows(r);
+            let each = self.parts.iter().zip(&mut ws.parts).zip(rows).zip(runs);
+            for (((part, pws), r), run) in each {
+                let own = (&mut pws.dx_du[..], &mut pws.jac);
+                part.linearise((&run.response, &run.sens), own, at, r, None);
+            }
+            self.gather_jacobian(ws, jac);
+        })
     }
 
     /// The residuals at `u` from the kept runs' responses (a run with
@@ -157,14 +169,12 @@ impl OutputError<'_> {
         u: &[f64],
         r: &mut [f64],
     ) -> bool {
-        if !self.take_kept(ws, u, false) {
-            return false;
-        }
-        let rows = self.split_rows(r);
-        for ((part, pws), r) in self.parts.iter().zip(&ws.parts).zip(rows) {
-            part.fill_residuals(&pws.response, r);
-        }
-        true
+        self.with_kept(ws, u, |_, runs| {
+            let rows = self.split_rows(r);
+            for ((part, r), run) in self.parts.iter().zip(rows).zip(runs) {
+                part.fill_residuals(&run.response, r);
+            }
+        })
     }
 
     /// Each experiment's rows of the Jacobian, from its workspace into

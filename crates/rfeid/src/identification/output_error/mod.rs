@@ -534,17 +534,18 @@ impl LeastSquares for OutputError<'_> {
         if self.linearise_kept(ws, u, r, jac) {
             return Ok(());
         }
+        self.forget_kept();
         if self.parts.len() == 1 {
             self.each_part(ws, r, Some(jac), true, |part, pws, r, jac| {
                 part.residuals_jacobian(pws, u, &self.maps, r, jac.map(|j| (j, 0)))
             })?;
-            self.keep(&ws.parts);
+            self.keep(&mut ws.parts);
             return Ok(());
         }
         self.each_part(ws, r, None, true, |part, pws, r, _| {
             part.residuals_jacobian(pws, u, &self.maps, r, None)
         })?;
-        self.keep(&ws.parts);
+        self.keep(&mut ws.parts);
         self.gather_jacobian(ws, jac);
         Ok(())
     }

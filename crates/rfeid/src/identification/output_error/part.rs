@@ -147,46 +147,48 @@ impl Part<'_> {
             &mut ws.response,
             &mut ws.sens,
         )?;
-        self.linearise(ws, u, maps, r, jac);
+        let run = (&ws.response, &ws.sens);
+        self.linearise(run, (&mut ws.dx_du, &mut ws.jac), (u, maps), r, jac);
         Ok(())
     }
 
-    /// [`Part::residuals_jacobian`] from the run with sensitivities the
-    /// workspace holds (at `u`).
+    /// [`Part::residuals_jacobian`] from a run with sensitivities at `u`
+    /// (`response`, `sens`), with the workspace's `dx_du` and own Jacobian
+    /// (`own`, used when `jac` is `None`).
     pub(super) fn linearise(
         &self,
-        ws: &mut PartWorkspace,
-        u: &[f64],
-        maps: &[BoxMap],
+        (response, sens): (&Response, &Sensitivities),
+        (dx_du, own): (&mut [f64], &mut DMatrix<f64>),
+        (u, maps): (&[f64], &[BoxMap]),
         r: &mut [f64],
         jac: Option<(&mut DMatrix<f64>, usize)>,
     ) {
         let n_cols = maps.len();
-        self.fill_residuals(&ws.response, r);
-        for (d, &c) in ws.dx_du.iter_mut().zip(&self.cols) {
+        self.fill_residuals(response, r);
+        for (d, &c) in dx_du.iter_mut().zip(&self.cols) {
             *d = maps[c].derivative(u[c]);
         }
         let (jac, row0) = match jac {
             Some(j) => j,
             None => {
                 // A workspace made without it (for the factor by blocks).
-                if ws.jac.nrows() != self.n_residuals() {
-                    ws.jac = DMatrix::zeros(self.n_residuals(), n_cols);
+                if own.nrows() != self.n_residuals() {
+                    *own = DMatrix::zeros(self.n_residuals(), n_cols);
                 }
-                (&mut ws.jac, 0)
+                (own, 0)
             }
         };
-        let n = ws.response.n_samples;
+        let n = response.n_samples;
         let first = self.data.first;
         let used = n - first;
         let p = self.wrt.len();
-        for c in 0..ws.response.n_sensors {
+        for c in 0..response.n_sensors {
             let w = self.sqrt_weights[c];
             for k in first..n {
                 let row = row0 + c * used + (k - first);
-                let src = &ws.sens.values[(c * n + k) * p..(c * n + k + 1) * p];
+                let src = &sens.values[(c * n + k) * p..(c * n + k + 1) * p];
                 for j in 0..p {
-                    jac[(row, self.cols[j])] = w * src[j] * ws.dx_du[j];
+                    jac[(row, self.cols[j])] = w * src[j] * dx_du[j];
                 }
             }
             // The same fixed filter as the residuals': the filtered
