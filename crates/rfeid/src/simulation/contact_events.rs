@@ -174,6 +174,9 @@ pub(super) fn contact_instant_rates<M: Madd>(
         let e = if of_force { &ends[4..] } else { &ends[..4] };
         let slope = hermite_slope(e[0], e[1], e[2], e[3], theta);
         if slope == 0.0 || !slope.is_finite() {
+            // A tangent root: no derivative of its own; the jump takes the
+            // motion's (`contact_jumps`).
+            ws.contact_mark_rates[m * w..(m + 1) * w].fill(f64::NAN);
             continue;
         }
         // The law at each end, acting, and the acceleration of its closure.
@@ -274,8 +277,8 @@ pub(super) fn contact_jumps<M: Madd>(
                 };
             }
             let dt = match ws.contact_mark_rates.get(mark * w + col) {
-                Some(&rate) => rate,
-                None => -dg / g_dot,
+                Some(&rate) if rate.is_finite() => rate,
+                _ => -dg / g_dot,
             };
             for (i, &g) in c.g.iter().enumerate() {
                 if g != 0.0 {

@@ -475,6 +475,8 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
             let (sv, sz) = at.slopes();
             let out = &mut z.mark_rates[m * w..(m + 1) * w];
             if slope == 0.0 || !slope.is_finite() {
+                // A tangent root: the jump takes the motion's derivative.
+                out.fill(f64::NAN);
                 continue;
             }
             for (col, o) in out.iter_mut().enumerate() {
@@ -533,7 +535,8 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
             let located = |is_z: bool| {
                 let m = (ws.z.marks.iter())
                     .position(|&(t, k, of_z)| k == j && of_z == is_z && (t - from).abs() < MERGE)?;
-                ws.z.mark_rates.get(m * w..(m + 1) * w)
+                let rates = ws.z.mark_rates.get(m * w..(m + 1) * w)?;
+                rates.iter().all(|r| r.is_finite()).then_some(rates)
             };
             let (rates_v, rates_z) = (located(false), located(true));
             let s_z = &mut ws.z.sy[j * w..(j + 1) * w];

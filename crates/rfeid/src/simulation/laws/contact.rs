@@ -247,6 +247,9 @@ impl ContactForce {
         let m = self.spring.m;
         match key {
             ContactKey::Stiffness => (1.0, 0.0),
+            // Held acting past its closing (s ≤ 0), a power law's spring is
+            // zero with its slope (`spring`), whatever a and m.
+            ContactKey::Coefficient | ContactKey::Exponent if at.s <= 0.0 => (0.0, 0.0),
             ContactKey::Coefficient => (self.spring.per_a * power_law(1.0, m, at.s).1, 0.0),
             ContactKey::Exponent => (
                 at.slope * (1.0 / m + super::ln_kept(at.s) - self.spring.ln_ref),
