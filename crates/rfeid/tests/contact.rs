@@ -12,9 +12,8 @@ use rfeid::model::Model;
 use rfeid::simulation::steps::integrator;
 use rfeid::simulation::{Kernel, Simulator, Workspace};
 
-/// The example's model with the contact's gap a parameter, and `{GAP}` its
-/// value.
-fn contact_model(gap: &str) -> Model {
+/// The text of `examples/contact/model.toml` and its contact's law line.
+fn example() -> (String, &'static str) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../examples/contact/model.toml"
@@ -22,6 +21,13 @@ fn contact_model(gap: &str) -> Model {
     let text = std::fs::read_to_string(path).unwrap();
     let law = r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = 0.0 }"#;
     assert!(text.contains(law), "the example's contact");
+    (text, law)
+}
+
+/// The example's model with the contact's gap a parameter, and `{GAP}` its
+/// value.
+fn contact_model(gap: &str) -> Model {
+    let (text, law) = example();
     let text = text.replace(
         law,
         r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = "gap" }"#,
@@ -278,13 +284,7 @@ fn sensitivities_at_coarse_steps_are_the_computed_responses_derivative() {
 /// s ≤ 0 there, and its column was NaN in 3 946 of 4 000 rows.
 #[test]
 fn a_power_law_contacts_sensitivities_are_finite_at_every_step_count() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../examples/contact/model.toml"
-    );
-    let text = std::fs::read_to_string(path).unwrap();
-    let law = r#"uz = { law = "contact", k = "k_contact", c = "c_contact", gap = 0.0 }"#;
-    assert!(text.contains(law), "the example's contact");
+    let (text, law) = example();
     let power = r#"uz = { law = "contact", a = "a_contact", m = "m_contact", reference = "10 um", c = "c_contact", gap = "-5 um" }"#;
     let k = "name = \"k_contact\"\nvalue = \"2e7 N/m\"\nmin = \"5e6 N/m\"\nmax = \"1e8 N/m\"";
     assert!(text.contains(k), "the example's k");
