@@ -150,3 +150,24 @@ fn residuals_at_a_kept_run_are_a_plain_runs_without_simulating() {
     assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
     assert_eq!(b, end.residuals);
 }
+
+/// A cancelled criterion fails at a kept run too, as at a new one.
+#[test]
+fn a_cancelled_criterion_fails_at_a_kept_run() {
+    use rfeid::identification::cancel::Cancel;
+    let model = knee_column();
+    let mut keeping = criterion(&model, &[1]);
+    keeping.keep_runs(true);
+    let cancel = Cancel::default();
+    keeping.set_cancel(cancel.clone());
+    let u0 = vec![0.35; keeping.n_params()];
+    let end = search(&keeping, &u0);
+    cancel.set();
+    let n = keeping.n_residuals();
+    let mut r = vec![0.0; n];
+    let failed = keeping.residuals(&mut keeping.workspace(), &end.u, &mut r);
+    assert!(
+        matches!(failed, Err(SimulationError::Cancelled)),
+        "{failed:?}"
+    );
+}

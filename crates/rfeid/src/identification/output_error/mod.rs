@@ -516,6 +516,7 @@ impl LeastSquares for OutputError<'_> {
         u: &[f64],
         r: &mut [f64],
     ) -> Result<(), SimulationError> {
+        self.check_cancel()?;
         if self.residuals_kept(ws, u, r) {
             return Ok(());
         }
@@ -531,6 +532,7 @@ impl LeastSquares for OutputError<'_> {
         r: &mut [f64],
         jac: &mut DMatrix<f64>,
     ) -> Result<(), SimulationError> {
+        self.check_cancel()?;
         if self.linearise_kept(ws, u, r, jac) {
             return Ok(());
         }
