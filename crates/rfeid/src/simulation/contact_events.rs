@@ -9,6 +9,7 @@
 //! their own side ([`set_contact_sides`]), and the sensitivities of the
 //! velocities jump where the force does ([`contact_jumps`]).
 use super::crossings::{cubic_roots, hermite, hermite_slope, MERGE};
+use super::laws::contact::{ContactAt, ContactForce};
 use super::laws::ContactKey;
 use super::madd::Madd;
 use super::system::System;
@@ -129,6 +130,32 @@ pub(super) fn set_contact_sides(ws: &mut Workspace, (from, to): (f64, f64)) {
     }
 }
 
+/// The derivative in one parameter column of a contact's switching
+/// function at a state: its closure s (`of_force` false) or its force
+/// `f(s) + c ṡ`, the law held acting there (`at`), from the column's
+/// `s_q = B ∂q₀/∂x + B Y_q` and `s_v = B Y_v` and the law's keys in that
+/// column (`keys`).
+fn switch_derivative(
+    law: &ContactForce,
+    at: &ContactAt,
+    of_force: bool,
+    (s_q, s_v): (f64, f64),
+    keys: impl Iterator<Item = ContactKey>,
+) -> f64 {
+    let mut dg = match of_force {
+        false => s_q,
+        true => at.slope * s_q + law.damping() * s_v,
+    };
+    for key in keys {
+        dg += match (of_force, key) {
+            (false, ContactKey::Gap) => -1.0,
+            (false, _) => 0.0,
+            (true, key) => law.derivative(at, key),
+        };
+    }
+    dg
+}
+
 /// What [`contact_instant_rates`] reads of a trial step whose
 /// sensitivities were integrated: its length, and the stage indices of the
 /// accelerations at its ends ([`TrialStep`]).
@@ -195,23 +222,15 @@ pub(super) fn contact_instant_rates<M: Madd>(
                 let (at, v, a) = ends[i];
                 let s_q = stat + c.column_rate(s, 0, w, col);
                 let (s_v, s_a) = (c.column_rate(s, n, w, col), c.column_rate(ks, n, w, col));
-                let (mut value, mut rate) = match of_force {
-                    false => (s_q, s_v),
-                    true => (
-                        at.slope * s_q + law.damping() * s_v,
-                        law.curvature(&at) * s_q * v + at.slope * s_v + law.damping() * s_a,
-                    ),
+                let in_col = || keys.iter().filter(|u| u.0 == col).map(|u| u.1);
+                let value = switch_derivative(law, &at, of_force, (s_q, s_v), in_col());
+                let mut rate = match of_force {
+                    false => s_v,
+                    true => law.curvature(&at) * s_q * v + at.slope * s_v + law.damping() * s_a,
                 };
-                for &(_, key) in keys.iter().filter(|u| u.0 == col) {
-                    match (of_force, key) {
-                        (false, ContactKey::Gap) => value -= 1.0,
-                        (false, _) => {}
-                        (true, key) => {
-                            let (d_slope, d_damping) = law.small_motion_derivative(&at, key);
-                            value += law.derivative(&at, key);
-                            rate += d_slope * v + d_damping * a;
-                        }
-                    }
+                for key in in_col().filter(|_| of_force) {
+                    let (d_slope, d_damping) = law.small_motion_derivative(&at, key);
+                    rate += d_slope * v + d_damping * a;
                 }
                 d[2 * i] = value;
                 d[2 * i + 1] = h * rate;
@@ -254,31 +273,26 @@ pub(super) fn contact_jumps<M: Madd>(
         let (d, v) = (c.rate::<M>(&ws.y[..n]), c.rate::<M>(&ws.y[n..]));
         let jump = ct.law.force_change(d, v, after) - ct.law.force_change(d, v, before);
         let at = ct.law.at_side(ct.law.d0 + d, v, 1.0);
-        let (slope, damping) = (at.slope, ct.law.damping());
         let g_dot = match of_force {
             false => v,
-            true => slope * v + damping * c.rate::<M>(&ws.k[n..2 * n]),
+            true => at.slope * v + ct.law.damping() * c.rate::<M>(&ws.k[n..2 * n]),
         };
         if jump == 0.0 || g_dot == 0.0 || !g_dot.is_finite() {
             continue;
         }
         let (statics, keys) = tangent.contact_terms(j);
         for col in 0..w {
-            let s_q = statics.get(col).copied().unwrap_or(0.0) + c.column_rate(&ws.sy, 0, w, col);
-            let mut dg = match of_force {
-                false => s_q,
-                true => slope * s_q + damping * c.column_rate(&ws.sy, n, w, col),
-            };
-            for &(_, key) in keys.iter().filter(|u| u.0 == col) {
-                dg += match (of_force, key) {
-                    (false, ContactKey::Gap) => -1.0,
-                    (false, _) => 0.0,
-                    (true, key) => ct.law.derivative(&at, key),
-                };
-            }
             let dt = match ws.contact_mark_rates.get(mark * w + col) {
                 Some(&rate) if rate.is_finite() => rate,
-                _ => -dg / g_dot,
+                _ => {
+                    let stat = statics.get(col).copied().unwrap_or(0.0);
+                    let s = (
+                        stat + c.column_rate(&ws.sy, 0, w, col),
+                        c.column_rate(&ws.sy, n, w, col),
+                    );
+                    let in_col = keys.iter().filter(|u| u.0 == col).map(|u| u.1);
+                    -switch_derivative(&ct.law, &at, of_force, s, in_col) / g_dot
+                }
             };
             for (i, &g) in c.g.iter().enumerate() {
                 if g != 0.0 {
