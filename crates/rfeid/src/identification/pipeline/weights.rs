@@ -64,23 +64,11 @@ pub(super) fn before_restarts(
 /// Residuals at the level of rounding (every sensor fitted to the verdict's
 /// `exact_fit`: noise-free data) carry no noise to model, and are left
 /// alone. Returns the end under the weighting `problem` then holds.
+///
+/// Each round's search starts where the one before ended; the pipeline
+/// keeps the runs meanwhile (`OutputError::keep_runs`), so its first
+/// Jacobian is the runs that one ended with, weighted anew.
 pub(super) fn estimate(
-    problem: &mut OutputError<'_>,
-    searcher: &Searcher<'_>,
-    best: SearchOutcome,
-    noise_model: NoiseModel,
-) -> Result<SearchOutcome, IdentifyError> {
-    // Each round's search starts where the one before ended: its first
-    // Jacobian is the runs that one ended with, weighted anew.
-    let kept = problem.keeps_runs();
-    problem.keep_runs(true);
-    let best = reweighted(problem, searcher, best, noise_model);
-    problem.keep_runs(kept);
-    best
-}
-
-/// The rounds of [`estimate`].
-fn reweighted(
     problem: &mut OutputError<'_>,
     searcher: &Searcher<'_>,
     mut best: SearchOutcome,
