@@ -2,6 +2,7 @@
 //! that each amplitude A_j may be a parameter with a simple derivative.
 mod band_limited;
 mod fixed;
+mod rate;
 
 pub use band_limited::{BandLimited, BandLimitedError};
 pub use fixed::{FixedSignal, Segment};

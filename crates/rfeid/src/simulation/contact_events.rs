@@ -6,8 +6,9 @@
 //! interpolant of the function's values and rates at the trial step's
 //! ends (ṡ from the velocities, s̈ from the accelerations of the first and
 //! the last stage); the pieces next to a located switch are evaluated on
-//! their own side ([`set_contact_sides`]), and the sensitivities of the
-//! velocities jump where the force does ([`contact_jumps`]).
+//! their own side ([`set_contact_sides`]), and the sensitivities take the
+//! split step's derivative in each located instant ([`contact_jumps`],
+//! `split_shifts`).
 use super::crossings::{cubic_roots, hermite, hermite_slope, MERGE};
 use super::laws::contact::{ContactAt, ContactForce};
 use super::laws::ContactKey;
@@ -128,6 +129,29 @@ pub(super) fn set_contact_sides(ws: &mut Workspace, (from, to): (f64, f64)) {
         let pushing = hermite(e[4], e[5], e[6], e[7], theta) > 0.0;
         ws.contact_sides[j] = if closed && pushing { 1.0 } else { -1.0 };
     }
+}
+
+/// The first of a split step's crossings (its index in `ws.crossings`) at
+/// which a contact switches side, as [`set_contact_sides`] will hold it on
+/// the pieces before and after: the instant the split column follows
+/// (`split_shifts`). Out of line and cold: it runs at a located switch.
+#[cold]
+#[inline(never)]
+pub(super) fn moving_instant(sys: &System<'_>, ws: &Workspace) -> Option<usize> {
+    let side = |j: usize, theta: f64| {
+        let e = ws.contact_ends[j];
+        let closed = hermite(e[0], e[1], e[2], e[3], theta) > 0.0;
+        let pushing = hermite(e[4], e[5], e[6], e[7], theta) > 0.0;
+        closed && pushing
+    };
+    let cr = &ws.crossings;
+    (0..cr.len()).find(|&k| {
+        let before = 0.5 * (if k == 0 { 0.0 } else { cr[k - 1] } + cr[k]);
+        let after = 0.5 * (cr[k] + cr.get(k + 1).copied().unwrap_or(1.0));
+        let at = |&&(t, _, _): &&(f64, usize, bool)| (t - cr[k]).abs() < MERGE;
+        (ws.contact_marks.iter().filter(at))
+            .any(|&(_, j, _)| j < sys.contacts.len() && side(j, before) != side(j, after))
+    })
 }
 
 /// The derivative in one parameter column of a contact's switching
@@ -254,12 +278,18 @@ pub(super) fn contact_instant_rates<M: Madd>(
 ///   the located instant's error; it is what makes the sensitivities the
 ///   derivative of the computed response, whose split instants move with
 ///   the parameters (as Bouc–Wen's kinks, `stepper`).
+///
+/// These are the jump conditions of the flow. The step's first switch that
+/// moves ([`moving_instant`], the crossing `index`) takes instead the
+/// pieces' own derivative in its instant, carried by the split column
+/// (`split_shifts`): here only its dt*/dx is kept, into `ws.shift.rates`.
 pub(super) fn contact_jumps<M: Madd>(
     sys: &System<'_>,
     tangent: &Tangent,
     ws: &mut Workspace,
-    from: f64,
+    (from, index): (f64, usize),
 ) {
+    let followed = ws.shift.instant == Some(index);
     let (n, w) = (sys.n, tangent.width);
     for (j, ct) in sys.contacts.iter().enumerate() {
         let (before, after) = (ws.contact_sides_before[j], ws.contact_sides[j]);
@@ -277,7 +307,30 @@ pub(super) fn contact_jumps<M: Madd>(
             false => v,
             true => at.slope * v + ct.law.damping() * c.rate::<M>(&ws.k[n..2 * n]),
         };
-        if jump == 0.0 || g_dot == 0.0 || !g_dot.is_finite() {
+        let fallback = g_dot != 0.0 && g_dot.is_finite();
+        if followed && ws.shift.rates.is_empty() {
+            // The split column carries this instant's move (`split_shifts`):
+            // only its dt*/dx is kept.
+            let (statics, keys) = tangent.contact_terms(j);
+            for col in 0..w {
+                let dt = match ws.contact_mark_rates.get(mark * w + col) {
+                    Some(&rate) if rate.is_finite() => rate,
+                    _ if !fallback => f64::NAN,
+                    _ => {
+                        let stat = statics.get(col).copied().unwrap_or(0.0);
+                        let s = (
+                            stat + c.column_rate(&ws.sy, 0, w, col),
+                            c.column_rate(&ws.sy, n, w, col),
+                        );
+                        let in_col = keys.iter().filter(|u| u.0 == col).map(|u| u.1);
+                        -switch_derivative(&ct.law, &at, of_force, s, in_col) / g_dot
+                    }
+                };
+                ws.shift.rates.push(dt);
+            }
+            continue;
+        }
+        if jump == 0.0 || !fallback {
             continue;
         }
         let (statics, keys) = tangent.contact_terms(j);

@@ -28,6 +28,8 @@ mod simulator;
 mod sines;
 mod sparse;
 mod sparse_tangent;
+mod split_column;
+mod split_shifts;
 mod step_choice;
 mod step_error;
 mod step_windows;

@@ -14,12 +14,15 @@
 //! located on a quadratic ([`Stepper::find_hysteresis_crossings`]).
 //!
 //! The sensitivities go through the same stages: for a fixed split they are
-//! the exact derivative of the discrete solution. The split instant itself
-//! depends on the parameters; its derivative is left out, which changes the
-//! sensitivities by the order of the local error only, because the exact
-//! flow does not depend on where a step is split.
+//! the exact derivative of the discrete solution. A power law's δ = 0 is
+//! taken as fixed, which changes them by the order of the local error only
+//! (the exact flow does not depend on where a step is split); a Bouc–Wen
+//! kink's and a contact switch's instants move with the parameters by
+//! their own derivatives, and the sensitivities add the split step's
+//! derivative in them ([`Stepper::event_jumps`], `contact_events`,
+//! `split_shifts`).
 use super::contact_events::{contact_instant_rates, contact_jumps, find_contact_crossings};
-use super::contact_events::{set_contact_sides, start_contact_sides};
+use super::contact_events::{moving_instant, set_contact_sides, start_contact_sides};
 use super::contact_events::{TrialSens, TrialStep};
 use super::crossings::{cubic_roots, hermite, hermite_root, hermite_slope, push_inside, MERGE};
 use super::dim::Dim;
@@ -35,9 +38,9 @@ use std::marker::PhantomData;
 
 /// What a step needs: the equations, the method, the sensitivity columns.
 pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
-    sys: &'a System<'a>,
-    tab: &'a Tableau,
-    tangent: Tangent,
+    pub(super) sys: &'a System<'a>,
+    pub(super) tab: &'a Tableau,
+    pub(super) tangent: Tangent,
     /// The excitation at the stages by angle addition, when it is all sines.
     sines: Option<StageSines>,
     locate: bool,
@@ -166,17 +169,21 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 set_branches(z, (from, to));
                 set_contact_sides(ws, (from, to));
                 refresh |= piece == 0 && ws.contact_sides != ws.contact_start_sides;
+                ws.shift.set_piece(piece, (from, to), h);
             }
             if (split && piece > 0) || refresh {
                 self.first_stage(ws, ti, false);
                 if with_sens {
                     if split && piece > 0 {
                         self.event_jumps(ws, from);
-                        contact_jumps::<M>(self.sys, &self.tangent, ws, from);
+                        contact_jumps::<M>(self.sys, &self.tangent, ws, (from, piece - 1));
                     }
                     self.first_sens_stage(ws, ti);
                 }
                 refresh = false;
+            } else if split && ws.shift.on {
+                // Stage 0 of the step's first piece, taken before the split.
+                self.add_shift_terms(ws, 0, ti);
             }
             self.state_stages(ws, ti, hi);
             if !split && self.locate && self.find_crossings(ws, h) {
@@ -187,6 +194,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 // `contact_instant_rates`).
                 split = true;
                 trial = with_sens && ws.located_marks();
+                if trial && self.tangent.shift.is_some() {
+                    ws.shift.instant = moving_instant(self.sys, ws);
+                }
                 if !trial {
                     continue;
                 }
@@ -208,6 +218,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             std::mem::swap(&mut ws.y, &mut ws.y_new);
             std::mem::swap(&mut ws.z.y, &mut ws.z.y_new);
             if last {
+                if ws.shift.instant.is_some() {
+                    self.apply_shift(ws, h);
+                }
                 ws.z.branch.fill(Branch::NATURAL);
                 return;
             }
@@ -280,6 +293,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             let usages = self.tangent.hysteresis_usages();
             let states = (&ys[n..], zs, &ws.z.branch[..]);
             hysteresis_tangent::<M>(comps, rows, usages, states, (yv, &ws.z.sy_stage), w, dv, dz);
+        }
+        if ws.shift.on {
+            self.add_shift_terms(ws, i, t);
         }
     }
 

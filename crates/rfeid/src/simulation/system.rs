@@ -364,6 +364,14 @@ impl<'a> System<'a> {
         }
     }
 
+    /// The excitation forces' rates dP_e/dt at t, as limits from before or
+    /// after t ([`crate::model::Shape::rate_side`]), into `rates`.
+    pub fn force_rates(&self, t: f64, before: bool, rates: &mut [f64]) {
+        for (r, s) in rates.iter_mut().zip(self.signals()) {
+            *r = s.rate_side(t, &self.params, before);
+        }
+    }
+
     /// The excitation forces as limits from before or after t
     /// ([`crate::model::Shape::at_side`]), into `forces`.
     #[inline(always)]

@@ -62,9 +62,13 @@ struct Active {
 /// point and a list of identified parameters.
 #[derive(Debug, Clone)]
 pub(crate) struct Tangent {
-    /// Columns per row of Y: the number of parameters rounded up to a
-    /// multiple of four.
+    /// Columns per row of Y: the number of parameters (and the split
+    /// column, [`Self::shift`]) rounded up to a multiple of four.
     pub width: usize,
+    /// With contacts, the column after the parameters' that carries a
+    /// split step's derivative in a located switch's instant
+    /// (`split_shifts`); it enters no parameter's terms.
+    pub shift: Option<usize>,
     active: Vec<Active>,
     /// Mass, inertia and amplitude parameters: (column, usage).
     others: Vec<(usize, Usage)>,
@@ -104,16 +108,19 @@ impl Tangent {
         }
         let (usages, others) = usages_by_component(sys.structure, wrt);
         let hysteresis = hysteresis_usages(sys, wrt);
-        let width = wrt.len().next_multiple_of(4);
+        let shift = (!sys.contacts.is_empty()).then_some(wrt.len());
+        let width = (wrt.len() + usize::from(shift.is_some())).next_multiple_of(4);
         let contacts = contact_terms(sys, &usages, wrt.len(), width);
         if sys.sparse {
             let mut t = Tangent::sparse(sys, wrt.len(), width, usages, others);
             t.hysteresis = hysteresis;
             t.contacts = contacts;
+            t.shift = shift;
             return t;
         }
         Tangent {
             contacts,
+            shift,
             width,
             active: active_components(sys, wrt.len(), width, usages),
             others,
@@ -129,6 +136,7 @@ impl Tangent {
     fn empty(sparse: bool) -> Tangent {
         Tangent {
             width: 0,
+            shift: None,
             active: Vec::new(),
             others: Vec::new(),
             sparse,
@@ -165,6 +173,7 @@ impl Tangent {
             .collect();
         Tangent {
             width,
+            shift: None,
             active: Vec::new(),
             others,
             sparse: true,

@@ -4,6 +4,7 @@ use super::laws::bouc_wen::Branch;
 use super::response::Response;
 #[cfg(doc)]
 use super::sines::StageSines;
+use super::split_column::Shift;
 use super::system::System;
 use crate::model::Segment;
 
@@ -61,6 +62,8 @@ pub struct Workspace {
     /// closing's instant (`contact_events::contact_instant_rates`), marks ×
     /// the tangent's width.
     pub(super) contact_mark_rates: Vec<f64>,
+    /// The split column's state in a step (`split_shifts`).
+    pub(super) shift: Shift,
 }
 
 /// The internal states z of a run (`hysteresis`): the state, its stages
@@ -162,6 +165,7 @@ impl Workspace {
         self.contact_ends.resize(sys.contacts.len(), [0.0; 8]);
         self.contact_marks.clear();
         self.contact_mark_rates.clear();
+        self.shift.reset();
     }
 }
 

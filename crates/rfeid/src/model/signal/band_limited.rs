@@ -218,6 +218,44 @@ impl BandLimited {
     }
 }
 
+impl BandLimited {
+    /// The interpolant's time derivative at t: the derivative of the same
+    /// Lagrange polynomial ([`BandLimited::at`]), zero outside the record.
+    pub fn rate(&self, t: f64) -> f64 {
+        let u = (t - self.start) * self.fine_rate;
+        if !(0.0..=self.fine_end).contains(&u) {
+            return 0.0;
+        }
+        let i = (u as usize).min(self.fine_end as usize);
+        let x = u - i as f64;
+        let window: &[f64; ORDER] = self.grid[i + 1..i + 1 + ORDER]
+            .try_into()
+            .expect("the halo keeps the stencil on the grid");
+        self.fine_rate * lagrange_slope(window, x)
+    }
+}
+
+/// The x-derivative of [`lagrange`]'s polynomial: `Σ_j y_j c_j Σ_{m≠j}
+/// Π_{k≠j,m} (x − k)`, by the product rule (O(ORDER²); a cold path, the
+/// excitation's rate at a located switch).
+fn lagrange_slope(y: &[f64; ORDER], x: f64) -> f64 {
+    let offset = (HALO - 1) as f64;
+    let d: [f64; ORDER] = std::array::from_fn(|j| x + offset - j as f64);
+    let mut sum = 0.0;
+    for j in 0..ORDER {
+        let mut slope = 0.0;
+        for m in (0..ORDER).filter(|&m| m != j) {
+            let product: f64 = (0..ORDER)
+                .filter(|&k| k != j && k != m)
+                .map(|k| d[k])
+                .product();
+            slope += product;
+        }
+        sum += y[j] * INVERSE_DENOMINATORS[j] * slope;
+    }
+    sum
+}
+
 /// Each instant within the grid tolerance of `t_0 + kΔ`.
 fn check_even(times: &[f64], step: f64) -> Result<(), BandLimitedError> {
     let (first, last) = (times[0], times[times.len() - 1]);
