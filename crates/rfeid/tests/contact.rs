@@ -224,30 +224,48 @@ fn stencil_errors(steps: usize) -> (Vec<(String, f64)>, GapColumns) {
         let wrt: Vec<usize> = (0..model.parameters.len())
             .filter(|&p| gap != "0 m" || model.parameters[p].name != "gap")
             .collect();
-        let x = model.nominal();
+        let stencil = |name: &str, value: f64| match name {
+            "gap" => 1e-10,
+            "k_contact" => 1e-6 * value,
+            _ => 1e-5 * value,
+        };
         let mut columns = Vec::new();
-        for kernel in [Kernel::Dense, Kernel::Sparse] {
-            let mut sim = Simulator::with_integrator(&model, integrator(steps));
-            sim.set_kernel(kernel);
-            let mut ws = Workspace::default();
-            let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, &wrt);
-            for (&p, col) in wrt.iter().zip(cols) {
-                let name = &model.parameters[p].name;
-                let h = match name.as_str() {
-                    "gap" => 1e-10,
-                    "k_contact" => 1e-6 * x[p],
-                    _ => 1e-5 * x[p],
-                };
-                let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
-                let what = format!("{steps} steps, gap {gap}, {kernel:?}, {name}");
-                eprintln!("{what}: {err:.2e} of the column's RMS");
-                errors.push((what, err));
-                columns.push(col);
-            }
+        for (what, err, col) in kernel_errors(&model, &wrt, steps, stencil) {
+            let what = format!("{steps} steps, gap {gap}, {what}");
+            eprintln!("{what}: {err:.2e} of the column's RMS");
+            errors.push((what, err));
+            columns.push(col);
         }
         by_gap.push((gap, columns));
     }
     (errors, by_gap)
+}
+
+/// Each of `wrt`'s sensitivity columns at a fixed `steps` per sample on
+/// both kernels (the dense kernel's first), with its error against the
+/// five-point stencil of step `stencil(name, value)`, in units of the
+/// column's RMS: (kernel and parameter, error, column).
+fn kernel_errors(
+    model: &Model,
+    wrt: &[usize],
+    steps: usize,
+    stencil: impl Fn(&str, f64) -> f64,
+) -> Vec<(String, f64, Vec<f64>)> {
+    let x = model.nominal();
+    let mut out = Vec::new();
+    for kernel in [Kernel::Dense, Kernel::Sparse] {
+        let mut sim = Simulator::with_integrator(model, integrator(steps));
+        sim.set_kernel(kernel);
+        let mut ws = Workspace::default();
+        let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, wrt);
+        for (&p, col) in wrt.iter().zip(cols) {
+            let name = &model.parameters[p].name;
+            let h = stencil(name, x[p]);
+            let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
+            out.push((format!("{kernel:?}, {name}"), err, col));
+        }
+    }
+    out
 }
 
 /// At the coarse steps the identification takes (1 per sample in the
@@ -305,28 +323,19 @@ fn a_power_law_contacts_sensitivities_are_exact_at_every_step_count() {
             .filter(|&p| model.parameters[p].name.ends_with("_contact"))
             .collect();
         assert_eq!(wrt.len(), 2 + usize::from(damper), "a, m (and c)");
-        let x = model.nominal();
+        let stencil = |name: &str, value: f64| match name {
+            "c_contact" => 1e-5 * value,
+            _ => 1e-6 * value,
+        };
         for steps in [1, 4, 32] {
             let mut columns = Vec::new();
-            for kernel in [Kernel::Dense, Kernel::Sparse] {
-                let mut sim = Simulator::with_integrator(&model, integrator(steps));
-                sim.set_kernel(kernel);
-                let mut ws = Workspace::default();
-                let (_, cols) = sensitivity_columns(&sim, &mut ws, &x, &wrt);
-                for (&p, col) in wrt.iter().zip(cols) {
-                    let name = &model.parameters[p].name;
-                    let what = format!("damper {damper}, {steps} steps, {kernel:?}, {name}");
-                    let bad = col.iter().filter(|v| !v.is_finite()).count();
-                    assert_eq!(bad, 0, "{what}");
-                    let h = match name.as_str() {
-                        "c_contact" => 1e-5 * x[p],
-                        _ => 1e-6 * x[p],
-                    };
-                    let err = column_error(&col, &five_point(&sim, &mut ws, &x, p, h));
-                    eprintln!("{what}: {err:.2e} of the column's RMS");
-                    assert!(err < 1e-6, "{what}: {err:.2e}");
-                    columns.push(col);
-                }
+            for (what, err, col) in kernel_errors(&model, &wrt, steps, stencil) {
+                let what = format!("damper {damper}, {steps} steps, {what}");
+                let bad = col.iter().filter(|v| !v.is_finite()).count();
+                assert_eq!(bad, 0, "{what}");
+                eprintln!("{what}: {err:.2e} of the column's RMS");
+                assert!(err < 1e-6, "{what}: {err:.2e}");
+                columns.push(col);
             }
             assert_kernels_agree(&format!("{steps} steps"), &columns);
         }

@@ -13,6 +13,7 @@ use super::crossings::{cubic_roots, hermite, hermite_slope, MERGE};
 use super::laws::contact::{ContactAt, ContactForce};
 use super::laws::ContactKey;
 use super::madd::Madd;
+use super::sparse::SparseComp;
 use super::system::System;
 use super::tangent::Tangent;
 use super::workspace::Workspace;
@@ -180,6 +181,46 @@ fn switch_derivative(
     dg
 }
 
+/// A located switch of a contact at the start of a piece
+/// ([`contact_jumps`]): the law there, held acting, and how its instant
+/// moves.
+struct Switch<'a> {
+    law: &'a ContactForce,
+    comp: &'a SparseComp,
+    /// `B ∂q₀/∂x` and the law's keys' columns ([`Tangent::contact_terms`]).
+    terms: (&'a [f64], &'a [(usize, ContactKey)]),
+    at: ContactAt,
+    /// Whether the switch is the force's zero, not the closure's.
+    of_force: bool,
+    /// The switching function's rate ġ.
+    g_dot: f64,
+    /// Its index in `ws.contact_marks`.
+    mark: usize,
+}
+
+impl Switch<'_> {
+    /// dt*/dx in column `col` (rows of width `w`, n coordinates): the
+    /// located instant's own (`contact_instant_rates`), else the motion's
+    /// `−(∂g/∂x)/ġ` from the sensitivities at the piece's start, else NaN
+    /// (ġ = 0: no derivative).
+    fn rate(&self, ws: &Workspace, (n, w, col): (usize, usize, usize)) -> f64 {
+        match ws.contact_mark_rates.get(self.mark * w + col) {
+            Some(&rate) if rate.is_finite() => rate,
+            _ if self.g_dot == 0.0 || !self.g_dot.is_finite() => f64::NAN,
+            _ => {
+                let (statics, keys) = self.terms;
+                let stat = statics.get(col).copied().unwrap_or(0.0);
+                let s = (
+                    stat + self.comp.column_rate(&ws.sy, 0, w, col),
+                    self.comp.column_rate(&ws.sy, n, w, col),
+                );
+                let in_col = keys.iter().filter(|u| u.0 == col).map(|u| u.1);
+                -switch_derivative(self.law, &self.at, self.of_force, s, in_col) / self.g_dot
+            }
+        }
+    }
+}
+
 /// What [`contact_instant_rates`] reads of a trial step whose
 /// sensitivities were integrated: its length, and the stage indices of the
 /// accelerations at its ends ([`TrialStep`]).
@@ -307,46 +348,33 @@ pub(super) fn contact_jumps<M: Madd>(
             false => v,
             true => at.slope * v + ct.law.damping() * c.rate::<M>(&ws.k[n..2 * n]),
         };
-        let fallback = g_dot != 0.0 && g_dot.is_finite();
-        if followed && ws.shift.rates.is_empty() {
-            // The split column carries this instant's move (`split_shifts`):
-            // only its dt*/dx is kept.
-            let (statics, keys) = tangent.contact_terms(j);
-            for col in 0..w {
-                let dt = match ws.contact_mark_rates.get(mark * w + col) {
-                    Some(&rate) if rate.is_finite() => rate,
-                    _ if !fallback => f64::NAN,
-                    _ => {
-                        let stat = statics.get(col).copied().unwrap_or(0.0);
-                        let s = (
-                            stat + c.column_rate(&ws.sy, 0, w, col),
-                            c.column_rate(&ws.sy, n, w, col),
-                        );
-                        let in_col = keys.iter().filter(|u| u.0 == col).map(|u| u.1);
-                        -switch_derivative(&ct.law, &at, of_force, s, in_col) / g_dot
-                    }
-                };
-                ws.shift.rates.push(dt);
+        let switch = Switch {
+            law: &ct.law,
+            comp: c,
+            terms: tangent.contact_terms(j),
+            at,
+            of_force,
+            g_dot,
+            mark,
+        };
+        if followed {
+            // The split column carries every switch at this instant
+            // (`split_shifts`), moving with the first one's dt*/dx.
+            if ws.shift.rates.is_empty() {
+                let mut rates = std::mem::take(&mut ws.shift.rates);
+                rates.extend((0..w).map(|col| switch.rate(ws, (n, w, col))));
+                ws.shift.rates = rates;
             }
             continue;
         }
-        if jump == 0.0 || !fallback {
+        if jump == 0.0 || g_dot == 0.0 || !g_dot.is_finite() {
             continue;
         }
-        let (statics, keys) = tangent.contact_terms(j);
         for col in 0..w {
-            let dt = match ws.contact_mark_rates.get(mark * w + col) {
-                Some(&rate) if rate.is_finite() => rate,
-                _ => {
-                    let stat = statics.get(col).copied().unwrap_or(0.0);
-                    let s = (
-                        stat + c.column_rate(&ws.sy, 0, w, col),
-                        c.column_rate(&ws.sy, n, w, col),
-                    );
-                    let in_col = keys.iter().filter(|u| u.0 == col).map(|u| u.1);
-                    -switch_derivative(&ct.law, &at, of_force, s, in_col) / g_dot
-                }
-            };
+            let dt = switch.rate(ws, (n, w, col));
+            if !dt.is_finite() {
+                continue;
+            }
             for (i, &g) in c.g.iter().enumerate() {
                 if g != 0.0 {
                     ws.sy[(n + c.off[i / 6] + i % 6) * w + col] -= g * jump * dt;
