@@ -9,7 +9,7 @@
 //! put end to end, are [`Simulator::run_with_sensitivities`]'s response and
 //! sensitivities bit for bit (`tests` below).
 use super::calibration;
-use super::columns::group_size;
+use super::columns::{group_size, spare_columns};
 use super::response::Response;
 use super::run::{SampleState, SensitivityState, Span};
 use super::simulator::Simulator;
@@ -47,7 +47,8 @@ impl Simulator<'_> {
         block: usize,
         sink: &mut dyn FnMut(Block<'_>) -> Result<(), SimulationError>,
     ) -> Result<(), SimulationError> {
-        let size = group_size(wrt.len(), rayon::current_num_threads());
+        let threads = rayon::current_num_threads();
+        let size = group_size(wrt.len(), threads, spare_columns(self));
         let chunks: Vec<&[usize]> = match wrt.is_empty() {
             true => vec![&[]],
             false => wrt.chunks(size).collect(),

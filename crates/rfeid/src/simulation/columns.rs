@@ -13,20 +13,32 @@
 //! (`tests/sensitivity_threads.rs`).
 use super::response::Response;
 use super::simulator::Simulator;
+use super::structure::ComponentRow;
 use super::workspace::GroupBuffers;
 use super::SimulationError;
+use crate::model::Law;
 use rayon::prelude::*;
 
 /// The most parameters integrated in one run.
 pub const COLUMN_GROUP: usize = 16;
 
-/// Columns per group for `r` columns on `threads` threads: one group per
-/// thread, in multiples of four (the kernels' SIMD width), from 4 to
-/// [`COLUMN_GROUP`].
-pub fn group_size(r: usize, threads: usize) -> usize {
-    r.div_ceil(threads.max(1))
+/// Parameters per group for `r` parameters on `threads` threads, each run
+/// carrying `spare` columns after them (the split column of a model with
+/// contacts, `Tangent::shift`): one group per thread, its parameters and
+/// spare columns filling multiples of four (the kernels' SIMD width), from
+/// 4 to [`COLUMN_GROUP`] columns.
+pub fn group_size(r: usize, threads: usize, spare: usize) -> usize {
+    (r.div_ceil(threads.max(1)) + spare)
         .next_multiple_of(4)
         .clamp(4, COLUMN_GROUP)
+        - spare
+}
+
+/// The columns a run of `sim` carries after its parameters': the split
+/// column when the model has a contact (`Tangent::shift`).
+pub(crate) fn spare_columns(sim: &Simulator<'_>) -> usize {
+    let contact = |c: &ComponentRow| matches!(c.law, Law::Contact(_));
+    usize::from(sim.structure().components.iter().any(contact))
 }
 
 impl Simulator<'_> {

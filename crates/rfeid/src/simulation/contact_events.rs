@@ -324,6 +324,10 @@ pub(super) fn contact_instant_rates<M: Madd>(
 /// moves ([`moving_instant`], the crossing `index`) takes instead the
 /// pieces' own derivative in its instant, carried by the split column
 /// (`split_shifts`): here only its dt*/dx is kept, into `ws.shift.rates`.
+/// A further contact switching at that instant is moved by the split
+/// column with that dt*/dx, and by its jump condition with the difference
+/// from its own. Out of line: it runs at the pieces of split steps only.
+#[inline(never)]
 pub(super) fn contact_jumps<M: Madd>(
     sys: &System<'_>,
     tangent: &Tangent,
@@ -357,21 +361,28 @@ pub(super) fn contact_jumps<M: Madd>(
             g_dot,
             mark,
         };
-        if followed {
-            // The split column carries every switch at this instant
-            // (`split_shifts`), moving with the first one's dt*/dx.
-            if ws.shift.rates.is_empty() {
-                let mut rates = std::mem::take(&mut ws.shift.rates);
-                rates.extend((0..w).map(|col| switch.rate(ws, (n, w, col))));
-                ws.shift.rates = rates;
-            }
+        if followed && ws.shift.rates.is_empty() {
+            // The split column carries the switches at this instant
+            // (`split_shifts`), moving with this one's dt*/dx.
+            let mut rates = std::mem::take(&mut ws.shift.rates);
+            rates.extend((0..w).map(|col| switch.rate(ws, (n, w, col))));
+            ws.shift.rates = rates;
             continue;
         }
         if jump == 0.0 || g_dot == 0.0 || !g_dot.is_finite() {
             continue;
         }
         for col in 0..w {
-            let dt = switch.rate(ws, (n, w, col));
+            let mut dt = switch.rate(ws, (n, w, col));
+            if followed {
+                // A further contact switching at the followed instant: the
+                // split column moves it with the first one's dt*/dx, the
+                // jump condition by the rest of its own.
+                let first = ws.shift.rates[col];
+                if first.is_finite() {
+                    dt -= first;
+                }
+            }
             if !dt.is_finite() {
                 continue;
             }

@@ -1,7 +1,7 @@
 //! The runs of a [`Simulator`]: the response, the response with its
 //! sensitivities (in parallel groups of columns when there are many), and
 //! runs over part of the record or watched sample by sample.
-use super::columns::group_size;
+use super::columns::{group_size, spare_columns};
 use super::response::{Response, Sensitivities};
 use super::run::{Span, Watch};
 use super::simulator::Simulator;
@@ -40,7 +40,8 @@ impl<'m> Simulator<'m> {
         // of another shape (`integrate` resizes it).
         let rows = self.model.sensors.len() * self.model.sampling.n_samples();
         sens.values.resize(rows * wrt.len(), 0.0);
-        let size = group_size(wrt.len(), rayon::current_num_threads());
+        let threads = rayon::current_num_threads();
+        let size = group_size(wrt.len(), threads, spare_columns(self));
         if wrt.len() > size {
             let mut groups = std::mem::take(&mut ws.groups);
             let columns = (wrt, size);

@@ -169,7 +169,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 set_branches(z, (from, to));
                 set_contact_sides(ws, (from, to));
                 refresh |= piece == 0 && ws.contact_sides != ws.contact_start_sides;
-                ws.shift.set_piece(piece, (from, to), h);
+                if ws.shift.instant.is_some() {
+                    ws.shift.set_piece(piece, (from, to), h);
+                }
             }
             if (split && piece > 0) || refresh {
                 self.first_stage(ws, ti, false);
@@ -194,9 +196,6 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
                 // `contact_instant_rates`).
                 split = true;
                 trial = with_sens && ws.located_marks();
-                if trial && self.tangent.shift.is_some() {
-                    ws.shift.instant = moving_instant(self.sys, ws);
-                }
                 if !trial {
                     continue;
                 }
@@ -436,7 +435,8 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
     /// The derivatives in the parameters of the instants located in a
     /// trial step whose sensitivities were just integrated: Bouc–Wen's
     /// kinks' ([`Self::kink_instant_rates`]) and the contacts' openings and
-    /// closings' ([`contact_instant_rates`]). Out of line and cold, as they.
+    /// closings' ([`contact_instant_rates`]), and the contact switch the
+    /// split column follows. Out of line and cold, as they.
     #[cold]
     #[inline(never)]
     fn instant_rates(&self, ws: &mut Workspace, h: f64) {
@@ -447,6 +447,10 @@ impl<M: Madd, D: Dim> Stepper<'_, M, D> {
             let end = self.end_stage.unwrap_or(0);
             let step = TrialSens { h, end };
             contact_instant_rates::<M>(self.sys, &self.tangent, ws, &step);
+            if self.tangent.shift.is_some() {
+                // The switch the split column follows (`split_shifts`).
+                ws.shift.instant = moving_instant(self.sys, ws);
+            }
         }
     }
 

@@ -12,9 +12,11 @@
 //! stored, whose inner loop is a contiguous multiply–add over the
 //! parameters; the mass, inertia and load terms are added after it.
 //!
-//! Rows of Y and of the result hold [`Tangent::width`] columns: r rounded up
-//! to a multiple of four, so the kernels run on whole vectors. The padding
-//! columns start at zero and stay zero.
+//! Rows of Y and of the result hold [`Tangent::width`] columns: r (and,
+//! with contacts, the split column after them, [`Tangent::shift`]) rounded
+//! up to a multiple of four, so the kernels run on whole vectors. The
+//! padding columns start at zero and stay zero; the split column is zero
+//! outside the steps split at a contact switch (`split_shifts`).
 //!
 //! About a static equilibrium q₀ (`preload`), Y is the deviation
 //! `∂(q − q₀)/∂x` and the right-hand side its derivative: with

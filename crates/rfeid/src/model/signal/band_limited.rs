@@ -203,34 +203,34 @@ impl BandLimited {
     /// interpolant between them (module docs). O(1), no allocation.
     #[inline]
     pub fn at(&self, t: f64) -> f64 {
-        let u = ((t - self.start) * self.fine_rate).clamp(0.0, self.fine_end);
-        // u ≥ 0, so truncation is the floor.
-        let i = u as usize;
-        let x = u - i as f64;
-        // Fine points i − 7 … i + 8, at grid indices i + 1 … i + 16.
-        let window: &[f64; ORDER] = self.grid[i + 1..i + 1 + ORDER]
-            .try_into()
-            .expect("the halo keeps the stencil on the grid");
+        let (window, x) = self.window(t);
         if x == 0.0 {
             return window[HALO - 1];
         }
         lagrange(window, x)
     }
+
+    /// The fine points around t, clamped to the record's span, and t's
+    /// place among them, x ∈ [0, 1): fine points i − 7 … i + 8 (grid
+    /// indices i + 1 … i + 16) for the fine instant u = i + x.
+    #[inline]
+    fn window(&self, t: f64) -> (&[f64; ORDER], f64) {
+        let u = ((t - self.start) * self.fine_rate).clamp(0.0, self.fine_end);
+        // u ≥ 0, so truncation is the floor.
+        let i = u as usize;
+        let window = self.grid[i + 1..i + 1 + ORDER]
+            .try_into()
+            .expect("the halo keeps the stencil on the grid");
+        (window, u - i as f64)
+    }
 }
 
 impl BandLimited {
     /// The interpolant's time derivative at t: the derivative of the same
-    /// Lagrange polynomial ([`BandLimited::at`]), zero outside the record.
+    /// Lagrange polynomial ([`BandLimited::at`]), t clamped to the record
+    /// as there.
     pub fn rate(&self, t: f64) -> f64 {
-        let u = (t - self.start) * self.fine_rate;
-        if !(0.0..=self.fine_end).contains(&u) {
-            return 0.0;
-        }
-        let i = (u as usize).min(self.fine_end as usize);
-        let x = u - i as f64;
-        let window: &[f64; ORDER] = self.grid[i + 1..i + 1 + ORDER]
-            .try_into()
-            .expect("the halo keeps the stencil on the grid");
+        let (window, x) = self.window(t);
         self.fine_rate * lagrange_slope(window, x)
     }
 }

@@ -39,6 +39,8 @@ impl Shape {
                         let mut j = knot_after(times, t.clamp(first, last), None);
                         if before && j >= 1 && near(t, times[j - 1]) {
                             j -= 1;
+                        } else if !before && j < n && near(t, times[j]) {
+                            j += 1;
                         }
                         let j = j.clamp(1, n - 1);
                         (values[j] - values[j - 1]) / (times[j] - times[j - 1])
