@@ -133,7 +133,6 @@ impl Shape {
     /// from before, the next step starts from after. Within a few units in
     /// the last place of a jump, t counts as being at it.
     pub fn at_side(&self, t: f64, before: bool) -> f64 {
-        let near = |a: f64, b: f64| (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs());
         match self {
             Shape::Chirp { duration, .. } => {
                 let end = *duration;
@@ -169,14 +168,10 @@ impl Shape {
         else {
             return 0.0;
         };
-        let near = |a: f64, b: f64| (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs());
         let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
             return 0.0;
         };
-        let inside = match before {
-            true => t > first && !near(t, first) && (t <= last || near(t, last)),
-            false => (t >= first || near(t, first)) && t < last && !near(t, last),
-        };
+        let inside = within(t, (first, last), before);
         // Clamped only inside: a table whose ends are not in order (built
         // by hand; a file's are checked) is zero, as `at` gives it.
         match (inside, interpolation) {
@@ -209,6 +204,21 @@ impl Shape {
                 _ => Vec::new(),
             },
         }
+    }
+}
+
+/// Whether t is within a few units in the last place of `b` (an instant
+/// at which a shape jumps counts as at it, [`Shape::at_side`]).
+fn near(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs())
+}
+
+/// Whether t is inside the span `(first, last)` as the limit from before t
+/// (`before`) or from after it: a table's span, [`Shape::at_side`].
+fn within(t: f64, (first, last): (f64, f64), before: bool) -> bool {
+    match before {
+        true => t > first && !near(t, first) && (t <= last || near(t, last)),
+        false => (t >= first || near(t, first)) && t < last && !near(t, last),
     }
 }
 

@@ -75,7 +75,7 @@ impl OutputError<'_> {
         &self,
         ws: &mut OutputErrorWorkspace,
         u: &[f64],
-        f: impl FnOnce(&mut OutputErrorWorkspace, &[&KeptRun]),
+        f: impl FnOnce(&mut OutputErrorWorkspace, &[KeptRun]),
     ) -> bool {
         let Some(kept) = &self.kept.0 else {
             return false;
@@ -86,12 +86,11 @@ impl OutputError<'_> {
         let Ok(kept) = kept.lock() else {
             return false;
         };
-        let runs: Vec<&KeptRun> = kept.iter().collect();
-        let hit = runs.len() == self.parts.len()
-            && (self.parts.iter().zip(&ws.parts).zip(&runs))
+        let hit = kept.len() == self.parts.len()
+            && (self.parts.iter().zip(&ws.parts).zip(kept.iter()))
                 .all(|((part, pws), run)| run.matches(&part.data.sim, &pws.params));
         if hit {
-            f(ws, &runs);
+            f(ws, &kept);
         }
         hit
     }

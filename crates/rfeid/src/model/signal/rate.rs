@@ -1,6 +1,6 @@
 //! The excitation's rate dP/dt, exact for every shape: what a step's
 //! derivative in where it is split needs (`simulation::split_shifts`).
-use super::{knot_after, Interpolation, Shape, Signal};
+use super::{knot_after, near, within, Interpolation, Shape, Signal};
 use std::f64::consts::PI;
 
 impl Shape {
@@ -10,11 +10,7 @@ impl Shape {
     /// linear table (the segment before a knot from before, after it from
     /// after).
     pub fn rate_side(&self, t: f64, before: bool) -> f64 {
-        let near = |a: f64, b: f64| (a - b).abs() <= 8.0 * f64::EPSILON * b.abs().max(a.abs());
-        let inside = |first: f64, last: f64| match before {
-            true => t > first && !near(t, first) && (t <= last || near(t, last)),
-            false => (t >= first || near(t, first)) && t < last && !near(t, last),
-        };
+        let inside = |first: f64, last: f64| within(t, (first, last), before);
         match self {
             Shape::Sine { frequency, phase } => {
                 2.0 * PI * frequency * (2.0 * PI * frequency * t + phase).cos()
