@@ -609,6 +609,7 @@ mod tests {
 
 #[cfg(test)]
 mod reach_tests {
+    use super::super::tangent::Tangent;
     use super::*;
     use crate::io::model_file::parse_model;
     use std::path::Path;
@@ -616,7 +617,13 @@ mod reach_tests {
     /// One body restrained by a linear and a cubic spring along x and
     /// driven along x, plus `extra` components on its own element.
     fn one_body(extra: &str) -> crate::model::Model {
-        let text = format!(
+        let text = one_body_text(extra);
+        parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The text of [`one_body`].
+    fn one_body_text(extra: &str) -> String {
+        format!(
             "[simulation]\nduration = 2.0\nsample_rate = 1000.0\nsubsteps = 1\n\n\
              [[body]]\nname = \"mass\"\nmass = 1.0\ninertia = [1.0, 1.0, 1.0]\ncom = [0, 0, 0]\n\n\
              [[element]]\nname = \"linear\"\nbody = \"mass\"\nto = \"ground\"\nat = [0, 0, 0]\n\
@@ -631,8 +638,7 @@ mod reach_tests {
              quantity = \"displacement\"\n\n\
              [[parameter]]\nname = \"k1\"\nvalue = 4e5\nmin = 1e5\nmax = 1e6\n\n\
              [[parameter]]\nname = \"k3\"\nvalue = 5e9\nmin = 1e9\nmax = 1e10\n"
-        );
-        parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"))
+        )
     }
 
     /// The response and sensitivities of `m`, and its system's reach.
@@ -672,6 +678,87 @@ mod reach_tests {
         assert_eq!(bits(&alone), bits(&with_springs));
         assert!(sens_alone.iter().any(|v| *v != 0.0));
         assert_eq!(bits(&sens_alone), bits(&sens_springs));
+    }
+
+    /// The sensitivities on the `Reach` kernel, which computes and combines
+    /// only the rows the motion and the parameters reach
+    /// (`Tangent::reach`), equal bit for bit those of the `Fixed` kernel,
+    /// which integrates all six coordinates, on the same system: with the
+    /// mass, the load's amplitude and a damping as parameters (reach 2 of
+    /// 6), and with a spring at zero stiffness that couples x to rz (the
+    /// reach 1, but its stiffness's sensitivity reaches rz, so all 6).
+    #[test]
+    fn the_reach_kernels_sensitivities_equal_the_whole_kernels_bit_for_bit() {
+        let params = "[[parameter]]\nname = \"m\"\nvalue = 1.5\nmin = 1.0\nmax = 2.0\n\n\
+                      [[parameter]]\nname = \"amp\"\nvalue = 20.0\nmin = 10.0\nmax = 30.0\n\n\
+                      [[parameter]]\nname = \"c1\"\nvalue = 40.0\nmin = 10.0\nmax = 80.0\n\n";
+        let coupling = "[[element]]\nname = \"arm\"\nbody = \"mass\"\nto = \"ground\"\n\
+                        at = [0, 0.1, 0]\nux = { k = \"kc\" }\n\n\
+                        [[parameter]]\nname = \"kc\"\nvalue = 0.0\nmin = 0.0\nmax = 1e5\n\n";
+        for (extra, reach) in [(params, 2), (&format!("{params}{coupling}")[..], 6)] {
+            let arm = "[[sensor]]\nname = \"arm\"\nbody = \"mass\"\nat = [0, 0.2, 0]\n\
+                       direction = [1, 0, 0]\nquantity = \"displacement\"\n\n";
+            let text = one_body_text(&format!("{extra}{arm}"))
+                .replace("mass = 1.0", "mass = \"m\"")
+                .replace("amplitude = 20.0", "amplitude = \"amp\"")
+                .replace("c = 40.0", "c = \"c1\"");
+            let m =
+                parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"));
+            let sim = Simulator::new(&m);
+            let (p, wrt) = (m.nominal(), m.identified());
+            let run = |reached: bool| {
+                let mut sys = sim.system(&p).unwrap();
+                sys.set_sparse(false);
+                assert_eq!(sys.active, 1);
+                assert_eq!(Tangent::new(&sys, &wrt).reach(&sys), reach);
+                let (mut ws, mut out) = (Workspace::default(), sim.response_buffer());
+                let mut sens = vec![0.0; out.values.len() * wrt.len()];
+                let span = &mut Span::default();
+                match reached {
+                    true => sim.integrate_generic::<Separate, Reach<6>>(
+                        sys,
+                        &wrt,
+                        &mut ws,
+                        &mut out,
+                        Some(&mut sens),
+                        span,
+                    ),
+                    false => sim.integrate_generic::<Separate, Fixed<6>>(
+                        sys,
+                        &wrt,
+                        &mut ws,
+                        &mut out,
+                        Some(&mut sens),
+                        span,
+                    ),
+                }
+                .unwrap();
+                (out.values, sens)
+            };
+            let (reached, whole) = (run(true), run(false));
+            let differ = |a: &[f64], b: &[f64]| {
+                (a.iter().zip(b))
+                    .filter(|(x, y)| x.to_bits() != y.to_bits())
+                    .count()
+            };
+            assert_eq!(differ(&reached.0, &whole.0), 0, "responses, reach {reach}");
+            assert!(reached.1.iter().all(|v| v.is_finite()));
+            assert_eq!(
+                differ(&reached.1, &whole.1),
+                0,
+                "sensitivities, reach {reach}"
+            );
+            // Every parameter moves the response; kc through x and, with
+            // the spring at zero, through rz, which the sensor at the arm's
+            // end reads.
+            let r = wrt.len();
+            for j in 0..r {
+                assert!(
+                    reached.1.iter().skip(j).step_by(r).any(|v| *v != 0.0),
+                    "column {j}"
+                );
+            }
+        }
     }
 
     /// A run from a caller's state that moves past the reach (here the body

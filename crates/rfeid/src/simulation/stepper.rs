@@ -273,7 +273,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let acc = &ws.k[i * n2 + n..(i + 1) * n2];
         let ksi = &mut ws.ks[i * n2 * w..(i + 1) * n2 * w];
         let (dq, dv) = ksi.split_at_mut(n * w);
-        dq.copy_from_slice(&ws.sy_stage[n * w..]);
+        // Rows past the tangent's reach are zero and are not read.
+        let r = D::reach(self.tangent.reach(self.sys), n);
+        dq[..r * w].copy_from_slice(&ws.sy_stage[n * w..(n + r) * w]);
         self.tangent.apply::<M, D>(
             self.sys,
             (t, self.before(i)),
@@ -336,17 +338,20 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
     /// and `sy += h Σ b_i ks_i`.
     #[inline(always)]
     fn sens_stages(&self, ws: &mut Workspace, t: f64, h: f64) {
-        let len = 2 * D::n(self.sys.n) * self.tangent.width;
+        let (n, w) = (D::n(self.sys.n), self.tangent.width);
         let len_z = ws.z.y.len() * self.tangent.width;
+        // The rows the sensitivities reach, in each half ([`Tangent::reach`]).
+        let r = D::reach(self.tangent.reach(self.sys), n);
+        let halves = (n * w, r * w);
         for i in 1..self.tab.stages() {
-            combine::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, len, &mut ws.sy_stage);
+            combine_halves::<M>(&ws.sy, &ws.ks, &self.a_nz[i], h, halves, &mut ws.sy_stage);
             if len_z > 0 {
                 let z = &mut ws.z;
                 combine::<M>(&z.sy, &z.ks, &self.a_nz[i], h, len_z, &mut z.sy_stage);
             }
             self.sens_derivative(ws, i, t + self.tab.c[i] * h);
         }
-        accumulate::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, len);
+        accumulate_halves::<M>(&mut ws.sy, &ws.ks, &self.b_nz, h, halves);
         if len_z > 0 {
             accumulate::<M>(&mut ws.z.sy, &ws.z.ks, &self.b_nz, h, len_z);
         }
@@ -669,21 +674,72 @@ fn combine_state<M: Madd>(
     }
 }
 
+/// [`combine`] for the sensitivities, two halves `half` long each, over
+/// the first `reach` elements of each (all of them when `reach == half`):
+/// the others stay at zero in y and k, and are left as they are in `out`.
+#[inline(always)]
+fn combine_halves<M: Madd>(
+    y: &[f64],
+    k: &[f64],
+    a: &Coefs,
+    h: f64,
+    (half, reach): (usize, usize),
+    out: &mut [f64],
+) {
+    if reach == half {
+        combine::<M>(y, k, a, h, 2 * half, out);
+    } else {
+        combine_range::<M>(y, k, a, h, 2 * half, (0, reach), out);
+        combine_range::<M>(y, k, a, h, 2 * half, (half, half + reach), out);
+    }
+}
+
 /// `y += h Σ_j a_j k_j`, like [`combine`].
 #[inline(always)]
 fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &Coefs, h: f64, len: usize) {
-    assert!(stages_fit(k, a, len));
-    let mut e0 = 0;
-    // SAFETY: as in `combine`.
-    while e0 + 32 <= len {
+    accumulate_range::<M>(y, k, a, h, len, (0, len));
+}
+
+/// [`accumulate`] over the first `reach` elements of each of two halves
+/// `half` long, as [`combine_halves`].
+#[inline(always)]
+fn accumulate_halves<M: Madd>(
+    y: &mut [f64],
+    k: &[f64],
+    a: &Coefs,
+    h: f64,
+    (half, reach): (usize, usize),
+) {
+    if reach == half {
+        accumulate::<M>(y, k, a, h, 2 * half);
+    } else {
+        accumulate_range::<M>(y, k, a, h, 2 * half, (0, reach));
+        accumulate_range::<M>(y, k, a, h, 2 * half, (half, half + reach));
+    }
+}
+
+/// [`accumulate`] over the elements `from..to` of stages `len` long only.
+#[inline(always)]
+fn accumulate_range<M: Madd>(
+    y: &mut [f64],
+    k: &[f64],
+    a: &Coefs,
+    h: f64,
+    len: usize,
+    (from, to): (usize, usize),
+) {
+    assert!(stages_fit(k, a, len) && to <= len && y.len() >= to);
+    let mut e0 = from;
+    // SAFETY: as in `combine_range`.
+    while e0 + 32 <= to {
         unsafe { accumulate_chunk::<M, 32>(y, k, a, h, len, e0) };
         e0 += 32;
     }
-    while e0 + 8 <= len {
+    while e0 + 8 <= to {
         unsafe { accumulate_chunk::<M, 8>(y, k, a, h, len, e0) };
         e0 += 8;
     }
-    for e in e0..len {
+    for e in e0..to {
         unsafe { accumulate_chunk::<M, 1>(y, k, a, h, len, e) };
     }
 }

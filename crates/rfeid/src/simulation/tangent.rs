@@ -95,6 +95,11 @@ pub(crate) struct Tangent {
     /// instant of a located opening or closing moves with
     /// (`contact_events`).
     contacts: Vec<ContactTerms>,
+    /// 1 + the last coordinate whose acceleration the explicit terms E can
+    /// move (a component, mass, inertia or load that a parameter enters):
+    /// with the system's reach, the rows of the sensitivities that can
+    /// differ from zero ([`Self::reach`]).
+    extent: usize,
 }
 
 /// A contact's `B ∂q₀/∂x` and the (column, key) of its law's parameters
@@ -120,11 +125,13 @@ impl Tangent {
             t.shift = shift;
             return t;
         }
+        let active = active_components(sys, wrt.len(), width, usages);
         Tangent {
+            extent: explicit_extent(sys, &active, &others),
             contacts,
             shift,
             width,
-            active: active_components(sys, wrt.len(), width, usages),
+            active,
             others,
             sparse: false,
             component_usages: Vec::new(),
@@ -137,6 +144,7 @@ impl Tangent {
     /// The right-hand side of sensitivities to no parameter.
     fn empty(sparse: bool) -> Tangent {
         Tangent {
+            extent: 0,
             width: 0,
             shift: None,
             active: Vec::new(),
@@ -174,6 +182,7 @@ impl Tangent {
             .map(|((c, u), s)| Entries::new(c, width, u, s))
             .collect();
         Tangent {
+            extent: sys.n,
             width,
             shift: None,
             active: Vec::new(),
@@ -199,6 +208,18 @@ impl Tangent {
         self.contacts
             .get(j)
             .map_or((&[][..], &[][..]), |(s, g)| (&s[..], &g[..]))
+    }
+
+    /// How many leading coordinates of each half of the sensitivities can
+    /// differ from zero: the system's reach ([`System::active`]) or the
+    /// explicit terms' extent, whichever is further, rounded up to an even
+    /// count (the products go two rows at a time) and at most n. The rows
+    /// past it start at zero and stay there: no acceleration, load or
+    /// parameter acts on them, and M is diagonal. [`Self::apply`] computes
+    /// only the rows before it, and the stepper combines only those.
+    pub fn reach(&self, sys: &System<'_>) -> usize {
+        let r = sys.active.max(self.extent);
+        (r + r % 2).min(sys.n)
     }
 
     /// Scratch length that [`Self::apply`] needs for n coordinates: J
@@ -242,13 +263,16 @@ impl Tangent {
             self.add_others(sys, (t, before), acc, dacc);
             return;
         }
+        // Rows of J and of the result past the reach are zero: they are
+        // neither computed nor read ([`Self::reach`]).
+        let r = D::reach(self.reach(sys), n);
         let (jac, et) = scratch.split_at_mut(2 * n * n);
-        let et = &mut et[..width * n];
+        let (jac, et) = (&mut jac[..2 * n * r], &mut et[..width * n]);
 
         // J: the linear part, plus f'(δ) (−M⁻¹B_pᵀ) B_p per power-law spring.
         // Eᵀ: per parameter, −M⁻¹B_iᵀ ∂f_i/∂x over the components it enters,
         // and the slope's change times B_p ∂q₀/∂x under a preload.
-        jac.copy_from_slice(&sys.a_lin[..2 * n * n]);
+        jac.copy_from_slice(&sys.a_lin[..2 * n * r]);
         et.fill(0.0);
         for comp in &self.active {
             let (b, g) = (&comp.b[..n], &comp.g[..n]);
@@ -290,10 +314,13 @@ impl Tangent {
         // J Y + E, row by row.
         for (k, (row, out)) in jac
             .chunks_exact(2 * n)
-            .zip(dacc.chunks_exact_mut(width))
+            .zip(dacc[..r * width].chunks_exact_mut(width))
             .enumerate()
         {
-            times_columns::<M>(row, sy, (et, n, k), width, out);
+            match r == n {
+                true => times_columns::<M>(row, sy, (et, n, k), width, out),
+                false => times_reached::<M>(row, sy, (et, n, k), (width, r), out),
+            }
         }
         self.add_others(sys, (t, before), acc, dacc);
     }
@@ -476,6 +503,23 @@ fn active_components(
         .collect()
 }
 
+/// 1 + the last coordinate that the explicit terms of the parameters can
+/// move beyond the system's reach ([`Tangent::reach`]): the components in
+/// `active` (a power-law spring, or one a parameter enters, whatever its
+/// coefficients' values) and the loads in `others`. A mass's and an
+/// inertia's terms, `(g − q̈)/m` and `−q̈/m` per coordinate, are zero past
+/// the reach, where the weight and the acceleration are.
+fn explicit_extent(sys: &System<'_>, active: &[Active], others: &[(usize, Usage)]) -> usize {
+    let last = |v: &[f64]| v.iter().rposition(|x| *x != 0.0).map_or(0, |i| i + 1);
+    let comps = active.iter().map(|c| last(&c.b).max(last(&c.g)));
+    let others = others.iter().map(|&(_, usage)| match usage {
+        Usage::Mass(_) | Usage::Inertia(..) => 0,
+        Usage::Amplitude(e, _) => last(&sys.minv_loads[e]),
+        _ => sys.n,
+    });
+    comps.chain(others).max().unwrap_or(0).min(sys.n)
+}
+
 /// `J += slope · g bᵀ` in J's position half (`half` 0) or velocity half
 /// (1); nothing for a zero slope.
 #[inline(always)]
@@ -588,6 +632,35 @@ fn row_times<M: Madd, const W: usize>(
     let o = &mut out[c0..c0 + W];
     for q in 0..W {
         o[q] = s[q] + t[q];
+    }
+}
+
+/// [`times_columns`] over the rows of X that can differ from zero: the
+/// first `r` (even) of each half, as [`Tangent::reach`] gives them. The
+/// skipped terms multiply rows of zeros, and the rest are summed in the
+/// same two accumulators in the same order, so the result is the same.
+#[inline(always)]
+fn times_reached<M: Madd>(
+    a: &[f64],
+    x: &[f64],
+    (et, n, k): (&[f64], usize, usize),
+    (width, r): (usize, usize),
+    out: &mut [f64],
+) {
+    for c0 in (0..width).step_by(4) {
+        let mut s: [f64; 4] = std::array::from_fn(|c| et[(c0 + c) * n + k]);
+        let mut t = [0.0; 4];
+        for j in (0..r).step_by(2).chain((n..n + r).step_by(2)) {
+            let x0 = &x[j * width + c0..][..4];
+            let x1 = &x[(j + 1) * width + c0..][..4];
+            for q in 0..4 {
+                s[q] = M::madd(a[j], x0[q], s[q]);
+                t[q] = M::madd(a[j + 1], x1[q], t[q]);
+            }
+        }
+        for (q, o) in out[c0..c0 + 4].iter_mut().enumerate() {
+            *o = s[q] + t[q];
+        }
     }
 }
 
