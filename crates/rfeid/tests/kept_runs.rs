@@ -2,7 +2,8 @@
 //! starts where the last one ended, under new sensor weights, takes its
 //! first residuals and Jacobian from that one's runs. Its end is the same
 //! bit for bit as with a new run, and it simulates once fewer; a clone, or
-//! other steps per sample, keep nothing and simulate again.
+//! other steps per sample, keep nothing and simulate again. The last fit
+//! (`OutputError::simulate_all`) is kept the same way.
 use rfeid::identification::lm::{LevenbergMarquardt, LmResult};
 use rfeid::identification::output_error::{ExperimentData, OutputError};
 use rfeid::identification::problem::LeastSquares;
@@ -166,6 +167,53 @@ fn a_cancelled_criterion_fails_at_a_kept_run() {
     let n = keeping.n_residuals();
     let mut r = vec![0.0; n];
     let failed = keeping.residuals(&mut keeping.workspace(), &end.u, &mut r);
+    assert!(
+        matches!(failed, Err(SimulationError::Cancelled)),
+        "{failed:?}"
+    );
+}
+
+/// A second fit at the same point (`OutputError::simulate_all`) takes the
+/// first's responses, bit for bit, with no simulation. A clone, another
+/// point and other steps per sample simulate again; a cancelled criterion
+/// fails there as at a new point.
+#[test]
+fn a_fit_at_the_last_fits_point_takes_its_responses() {
+    use rfeid::identification::cancel::Cancel;
+    let model = knee_column();
+    let mut problem = criterion(&model, &[1, 2]);
+    let u = vec![0.4; problem.n_params()];
+    let runs = |p: &OutputError<'_>| p.tally().simulations;
+    let first = problem.simulate_all(&u).expect("simulates");
+    let before = runs(&problem);
+    let again = problem.simulate_all(&u).expect("kept");
+    assert_eq!(runs(&problem), before, "no simulation");
+    let bits = |r: &[rfeid::simulation::Response]| {
+        r.iter()
+            .flat_map(|r| r.values.iter().map(|v| v.to_bits()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&first), bits(&again));
+    problem.clone().simulate_all(&u).expect("simulates");
+    assert_eq!(runs(&problem), before + 2, "the clone simulated");
+    let mut other = u.clone();
+    other[0] = 0.41;
+    problem.simulate_all(&other).expect("simulates");
+    assert_eq!(runs(&problem), before + 4, "another point simulated");
+    let steps = problem.experiment_simulator(1).steps();
+    problem.set_experiment_steps(
+        1,
+        StepChoice {
+            substeps: steps.substeps + 1,
+            ..steps
+        },
+    );
+    problem.simulate_all(&other).expect("simulates");
+    assert_eq!(runs(&problem), before + 6, "other steps simulated");
+    let cancel = Cancel::default();
+    problem.set_cancel(cancel.clone());
+    cancel.set();
+    let failed = problem.simulate_all(&other);
     assert!(
         matches!(failed, Err(SimulationError::Cancelled)),
         "{failed:?}"
