@@ -219,3 +219,25 @@ fn a_fit_at_the_last_fits_point_takes_its_responses() {
         "{failed:?}"
     );
 }
+
+/// The fit at the end of a search whose runs are kept, at the chosen
+/// steps, is the kept run's response: bit for bit a new run's, with no
+/// simulation.
+#[test]
+fn the_fit_at_a_kept_run_is_its_response() {
+    let model = knee_column();
+    let (fresh, mut keeping) = (criterion(&model, &[1, 2]), criterion(&model, &[1, 2]));
+    keeping.keep_runs(true);
+    let u0 = vec![0.35; fresh.n_params()];
+    let end = search(&keeping, &u0);
+    let before = keeping.tally();
+    let kept = keeping.simulate_all(&end.u).expect("kept");
+    assert_eq!(keeping.tally(), before, "no simulation");
+    let new = fresh.simulate_all(&end.u).expect("simulates");
+    let bits = |r: &[rfeid::simulation::Response]| {
+        r.iter()
+            .flat_map(|r| r.values.iter().map(|v| v.to_bits()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&kept), bits(&new));
+}

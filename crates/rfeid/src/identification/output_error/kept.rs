@@ -95,6 +95,27 @@ impl OutputError<'_> {
         hit
     }
 
+    /// Every experiment's kept response at `u`, if each one's run is kept
+    /// there and it runs at its chosen steps: the fit there
+    /// ([`OutputError::simulate_all`]) without simulating.
+    pub(super) fn kept_fit_at(&self, u: &[f64]) -> Option<Vec<Response>> {
+        let kept = self.kept.0.as_ref()?.lock().ok()?;
+        if kept.len() != self.parts.len() {
+            return None;
+        }
+        let mut params = Vec::new();
+        let mut responses = Vec::with_capacity(kept.len());
+        for (part, run) in self.parts.iter().zip(kept.iter()) {
+            part.all_params(u, &self.maps, &mut params);
+            let sim = &part.data.sim;
+            if sim.searching() || !run.matches(sim, &params) {
+                return None;
+            }
+            responses.push(run.response.clone());
+        }
+        Some(responses)
+    }
+
     /// Forgets the kept runs (before new ones are made, so that the old
     /// and the new are not held at once).
     pub(super) fn forget_kept(&self) {

@@ -375,11 +375,13 @@ impl<'m> OutputError<'m> {
     /// chosen steps even while the searches take fewer
     /// ([`OutputError::use_search_steps`]): the fit is judged, and the noise
     /// estimated, at the full tolerance. A second call at the same point
-    /// (to the bit) and the same steps takes the first's responses, which
-    /// a new run would give bit for bit, and is not counted as a simulation.
+    /// (to the bit) and the same steps takes the first's responses, and a
+    /// call where the runs with sensitivities are kept
+    /// ([`OutputError::keep_runs`]) at the chosen steps takes theirs: what a
+    /// new run would give, bit for bit, and not counted as a simulation.
     pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
         self.check_cancel()?;
-        if let Some(responses) = self.last_fit_at(u) {
+        if let Some(responses) = self.last_fit_at(u).or_else(|| self.kept_fit_at(u)) {
             return Ok(responses);
         }
         let since = Instant::now();
