@@ -283,7 +283,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             acc,
             &ws.sy_stage,
             dv,
-            &mut ws.scratch,
+            (&mut ws.scratch, &mut ws.segments),
         );
         let nz = ws.z.y.len();
         if nz > 0 {

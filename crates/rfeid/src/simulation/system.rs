@@ -407,6 +407,21 @@ impl<'a> System<'a> {
         }
     }
 
+    /// The shape of term j of excitation e at t, from before or after t,
+    /// with the segments [`System::forces_kept`] keeps: the same value as
+    /// the shape's own ([`crate::model::Shape::at_side`]), found without a
+    /// search where the forces' last lookup holds t.
+    #[inline(always)]
+    pub(crate) fn shape_kept(
+        &self,
+        (e, j): (usize, usize),
+        (t, before): (f64, bool),
+        segments: &mut [Segment],
+    ) -> f64 {
+        let first: usize = self.signals[..e].iter().map(FixedSignal::terms).sum();
+        self.signals[e].shape_at_side_kept(j, t, before, &mut segments[first + j])
+    }
+
     /// The number of terms of all the excitation signals.
     pub(crate) fn signal_terms(&self) -> usize {
         self.signals.iter().map(FixedSignal::terms).sum()

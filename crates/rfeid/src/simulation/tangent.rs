@@ -35,7 +35,7 @@ use super::preload::{power_change, Preload};
 use super::sparse_tangent::{sparse_tangent, Entries};
 use super::structure::{ComponentRow, HysteresisKey, Row, Structure, Usage};
 use super::system::System;
-use crate::model::{Law, PowerSpring};
+use crate::model::{Law, PowerSpring, Segment};
 
 /// A component row that enters the sensitivities beyond the dense linear
 /// part: a power-law spring, or a component holding an identified parameter.
@@ -246,7 +246,7 @@ impl Tangent {
         acc: &[f64],
         sy: &[f64],
         dacc: &mut [f64],
-        scratch: &mut [f64],
+        (scratch, segments): (&mut [f64], &mut [Segment]),
     ) {
         let n = D::n(sys.n);
         let width = self.width;
@@ -260,7 +260,7 @@ impl Tangent {
                 &self.component_entries[..],
             );
             sparse_tangent::<M>(sys, columns, (q, v, contact_sides), sy, width, dacc);
-            self.add_others(sys, (t, before), acc, dacc);
+            self.add_others(sys, (t, before), acc, dacc, segments);
             return;
         }
         // Rows of J and of the result past the reach are zero: they are
@@ -322,10 +322,11 @@ impl Tangent {
                 false => times_reached::<M>(row, sy, (et, n, k), (width, r), out),
             }
         }
-        self.add_others(sys, (t, before), acc, dacc);
+        self.add_others(sys, (t, before), acc, dacc, segments);
     }
 
-    /// Adds the mass, inertia and load terms of E to `dacc`.
+    /// Adds the mass, inertia and load terms of E to `dacc`; a load's shape
+    /// comes from the excitation's kept `segments` ([`System::shape_kept`]).
     #[inline(always)]
     fn add_others(
         &self,
@@ -333,6 +334,7 @@ impl Tangent {
         (t, before): (f64, bool),
         acc: &[f64],
         dacc: &mut [f64],
+        segments: &mut [Segment],
     ) {
         let width = self.width;
         for &(col, usage) in &self.others {
@@ -351,9 +353,7 @@ impl Tangent {
                     dacc[cell(k)] -= acc[k] * sys.minv[k];
                 }
                 Usage::Amplitude(e, j) => {
-                    let s = sys.model.excitations[e].signal.terms[j]
-                        .shape
-                        .at_side(t, before);
+                    let s = sys.shape_kept((e, j), (t, before), segments);
                     if s != 0.0 {
                         for (k, l) in sys.minv_loads[e].iter().enumerate() {
                             dacc[cell(k)] += s * l;

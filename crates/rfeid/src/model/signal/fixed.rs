@@ -138,6 +138,15 @@ impl<'s> FixedSignal<'s> {
             .sum()
     }
 
+    /// Term j's shape alone (without its amplitude) at t, from before or
+    /// after t, with its segment `kept` as [`FixedSignal::at_side_kept`]
+    /// keeps it: the same value as the shape's own
+    /// ([`crate::model::Shape::at_side`]).
+    #[inline]
+    pub fn shape_at_side_kept(&self, j: usize, t: f64, before: bool, kept: &mut Segment) -> f64 {
+        self.terms[j].shape_at_side(t, before, kept)
+    }
+
     /// [`FixedSignal::at_side`] reusing, for each linear table, the segment
     /// `kept` holds for its term (one per term, in order; any values, as
     /// the [`Default`]) when it holds t, and keeping the segment looked up
