@@ -30,6 +30,7 @@ mod sparse;
 mod sparse_tangent;
 mod split_column;
 mod split_shifts;
+mod stage_sums;
 mod step_choice;
 mod step_error;
 mod step_windows;

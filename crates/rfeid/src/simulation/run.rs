@@ -177,6 +177,12 @@ impl<'m> Simulator<'m> {
                     span.equilibrium = Some(eq.q);
                 }
             }
+            // About the equilibrium the weight no longer counts in the
+            // reach: a caller's state may move past the shorter one.
+            let from = span.start.as_ref().or(span.resume.as_ref().map(|(s, _)| s));
+            if from.is_some_and(|s| sys.moves_past_reach(&s.y)) {
+                sys.integrate_every_coordinate();
+            }
         }
         let substeps = self.integrator.substeps;
         let h = 1.0 / (sampling.sample_rate * substeps as f64);
@@ -686,7 +692,9 @@ mod reach_tests {
     /// which integrates all six coordinates, on the same system: with the
     /// mass, the load's amplitude and a damping as parameters (reach 2 of
     /// 6), and with a spring at zero stiffness that couples x to rz (the
-    /// reach 1, but its stiffness's sensitivity reaches rz, so all 6).
+    /// reach 1, but its stiffness's sensitivity reaches rz, so all 6). The
+    /// portable kernels and, where the CPU has them, the fused ones; and a
+    /// workspace that ran the wider reach first gives the same too.
     #[test]
     fn the_reach_kernels_sensitivities_equal_the_whole_kernels_bit_for_bit() {
         let params = "[[parameter]]\nname = \"m\"\nvalue = 1.5\nmin = 1.0\nmax = 2.0\n\n\
@@ -695,52 +703,26 @@ mod reach_tests {
         let coupling = "[[element]]\nname = \"arm\"\nbody = \"mass\"\nto = \"ground\"\n\
                         at = [0, 0.1, 0]\nux = { k = \"kc\" }\n\n\
                         [[parameter]]\nname = \"kc\"\nvalue = 0.0\nmin = 0.0\nmax = 1e5\n\n";
-        for (extra, reach) in [(params, 2), (&format!("{params}{coupling}")[..], 6)] {
-            let arm = "[[sensor]]\nname = \"arm\"\nbody = \"mass\"\nat = [0, 0.2, 0]\n\
-                       direction = [1, 0, 0]\nquantity = \"displacement\"\n\n";
+        let arm = "[[sensor]]\nname = \"arm\"\nbody = \"mass\"\nat = [0, 0.2, 0]\n\
+                   direction = [1, 0, 0]\nquantity = \"displacement\"\n\n";
+        let model = |extra: &str| {
             let text = one_body_text(&format!("{extra}{arm}"))
                 .replace("mass = 1.0", "mass = \"m\"")
                 .replace("amplitude = 20.0", "amplitude = \"amp\"")
                 .replace("c = 40.0", "c = \"c1\"");
-            let m =
-                parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"));
-            let sim = Simulator::new(&m);
-            let (p, wrt) = (m.nominal(), m.identified());
-            let run = |reached: bool| {
-                let mut sys = sim.system(&p).unwrap();
-                sys.set_sparse(false);
-                assert_eq!(sys.active, 1);
-                assert_eq!(Tangent::new(&sys, &wrt).reach(&sys), reach);
-                let (mut ws, mut out) = (Workspace::default(), sim.response_buffer());
-                let mut sens = vec![0.0; out.values.len() * wrt.len()];
-                let span = &mut Span::default();
-                match reached {
-                    true => sim.integrate_generic::<Separate, Reach<6>>(
-                        sys,
-                        &wrt,
-                        &mut ws,
-                        &mut out,
-                        Some(&mut sens),
-                        span,
-                    ),
-                    false => sim.integrate_generic::<Separate, Fixed<6>>(
-                        sys,
-                        &wrt,
-                        &mut ws,
-                        &mut out,
-                        Some(&mut sens),
-                        span,
-                    ),
-                }
-                .unwrap();
-                (out.values, sens)
-            };
-            let (reached, whole) = (run(true), run(false));
-            let differ = |a: &[f64], b: &[f64]| {
-                (a.iter().zip(b))
-                    .filter(|(x, y)| x.to_bits() != y.to_bits())
-                    .count()
-            };
+            parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"))
+        };
+        let differ = |a: &[f64], b: &[f64]| {
+            (a.iter().zip(b))
+                .filter(|(x, y)| x.to_bits() != y.to_bits())
+                .count()
+        };
+        let coupled = model(&format!("{params}{coupling}"));
+        for (m, reach) in [(model(params), 2), (coupled.clone(), 6)] {
+            let wrt = m.identified();
+            let whole = reach_run(&m, &wrt, Kernels::Fixed, &mut Workspace::default());
+            let reached = reach_run(&m, &wrt, Kernels::Reach, &mut Workspace::default());
+            assert_eq!(reached.2, reach);
             assert_eq!(differ(&reached.0, &whole.0), 0, "responses, reach {reach}");
             assert!(reached.1.iter().all(|v| v.is_finite()));
             assert_eq!(
@@ -758,7 +740,74 @@ mod reach_tests {
                     "column {j}"
                 );
             }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+            {
+                let whole = reach_run(&m, &wrt, Kernels::FusedFixed, &mut Workspace::default());
+                let reached = reach_run(&m, &wrt, Kernels::FusedReach, &mut Workspace::default());
+                assert_eq!(differ(&reached.1, &whole.1), 0, "fused, reach {reach}");
+            }
         }
+        // The coupled model's m, amp and c1 alone reach 2 rows; after a run
+        // that reached all 6 in the same workspace, the same as in a new one.
+        let wrt = &coupled.identified()[..3];
+        let mut ws = Workspace::default();
+        let wide = reach_run(&coupled, &coupled.identified(), Kernels::Reach, &mut ws);
+        let narrow = reach_run(&coupled, wrt, Kernels::Reach, &mut ws);
+        let fresh = reach_run(&coupled, wrt, Kernels::Reach, &mut Workspace::default());
+        assert_eq!((wide.2, narrow.2), (6, 2));
+        assert_eq!(differ(&narrow.1, &fresh.1), 0, "a reused workspace");
+    }
+
+    /// The kernels [`reach_run`] can take.
+    #[derive(Clone, Copy)]
+    enum Kernels {
+        Fixed,
+        Reach,
+        FusedFixed,
+        FusedReach,
+    }
+
+    /// The response and the sensitivities to `wrt` of the one-body model
+    /// `m` at its nominal values on the dense kernel `kernel`, in `ws`, and
+    /// the tangent's reach.
+    fn reach_run(
+        m: &crate::model::Model,
+        wrt: &[usize],
+        kernel: Kernels,
+        ws: &mut Workspace,
+    ) -> (Vec<f64>, Vec<f64>, usize) {
+        let sim = Simulator::new(m);
+        let p = m.nominal();
+        let mut sys = sim.system(&p).unwrap();
+        sys.set_sparse(false);
+        assert_eq!(sys.active, 1);
+        let reach = Tangent::new(&sys, wrt).reach(&sys);
+        let mut out = sim.response_buffer();
+        let mut sens = vec![0.0; out.values.len() * wrt.len()];
+        let (s, span) = (Some(&mut sens), &mut Span::default());
+        match kernel {
+            Kernels::Fixed => {
+                sim.integrate_generic::<Separate, Fixed<6>>(sys, wrt, ws, &mut out, s, span)
+            }
+            Kernels::Reach => {
+                sim.integrate_generic::<Separate, Reach<6>>(sys, wrt, ws, &mut out, s, span)
+            }
+            // SAFETY (both): the caller checked that the CPU has AVX2 and FMA.
+            #[cfg(target_arch = "x86_64")]
+            Kernels::FusedFixed => unsafe {
+                sim.integrate_avx2_fma::<Fixed<6>>(sys, wrt, ws, &mut out, s, span)
+            },
+            #[cfg(target_arch = "x86_64")]
+            Kernels::FusedReach => unsafe {
+                sim.integrate_avx2_fma::<Reach<6>>(sys, wrt, ws, &mut out, s, span)
+            },
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => unreachable!("fused kernels only on x86_64"),
+        }
+        .unwrap();
+        (out.values, sens, reach)
     }
 
     /// A run from a caller's state that moves past the reach (here the body
@@ -784,5 +833,37 @@ mod reach_tests {
             .unwrap();
         let drift = out.sensor(1)[200];
         assert!((drift - 0.2).abs() < 1e-12, "q_y after 0.2 s: {drift}");
+    }
+
+    /// The same under a weight whose component along the drift is within
+    /// the equilibrium's tolerance (1e-12 of g along z, which nothing
+    /// restrains): that component makes z part of the reach at first, but
+    /// not once the run moves about the static equilibrium, whose reference
+    /// takes the weight away. The start is checked again then, and z still
+    /// advances as q̇ t.
+    #[test]
+    fn a_start_past_the_reach_about_the_equilibrium_integrates_every_coordinate() {
+        let z = "[[sensor]]\nname = \"z\"\nbody = \"mass\"\nat = [0, 0, 0]\n\
+                 direction = [0, 0, 1]\nquantity = \"displacement\"\n\n";
+        let text = format!("gravity = [-9.81, 0.0, 1e-12]\n{}", one_body_text(z));
+        let m = parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"));
+        let sim = Simulator::new(&m);
+        let mut y = vec![0.0; 12];
+        y[6 + 2] = 1.0;
+        let mut span = Span {
+            start: Some(SampleState {
+                sample: 100,
+                y,
+                z: Vec::new(),
+            }),
+            samples: Some(201),
+            ..Span::default()
+        };
+        let mut out = Response::zeros(0, 0);
+        sim.run_span(&m.nominal(), &mut Workspace::default(), &mut out, &mut span)
+            .unwrap();
+        // The sensor z comes first: it is added with the first element.
+        let drift = out.sensor(0)[200];
+        assert!((drift - 0.2).abs() < 1e-9, "q_z after 0.2 s: {drift}");
     }
 }

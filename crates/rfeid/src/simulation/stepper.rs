@@ -30,6 +30,8 @@ use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
 use super::laws::bouc_wen::Branch;
 use super::madd::Madd;
 use super::sines::StageSines;
+use super::stage_sums::{accumulate, accumulate_halves, combine, combine_halves, combine_state};
+use super::stage_sums::{nonzero, Coefs};
 use super::system::System;
 use super::tableau::Tableau;
 use super::tangent::Tangent;
@@ -52,32 +54,6 @@ pub(crate) struct Stepper<'a, M: Madd, D: Dim> {
     /// The nonzero `b_i`, as (i, b_i).
     b_nz: Coefs,
     kernel: PhantomData<(M, D)>,
-}
-
-/// The nonzero entries `(j, a_j)` of a row of coefficients, in increasing
-/// j, with the number of stages they reach (the last j + 1), so that
-/// [`stages_fit`] is one product rather than one per entry (it is checked
-/// at every stage sum).
-struct Coefs {
-    terms: Vec<(usize, f64)>,
-    stages: usize,
-}
-
-impl std::ops::Deref for Coefs {
-    type Target = [(usize, f64)];
-    fn deref(&self) -> &[(usize, f64)] {
-        &self.terms
-    }
-}
-
-/// The nonzero entries of a row of coefficients.
-fn nonzero(row: &[f64]) -> Coefs {
-    let terms: Vec<(usize, f64)> = (row.iter().enumerate())
-        .filter(|(_, v)| **v != 0.0)
-        .map(|(j, v)| (j, *v))
-        .collect();
-    let stages = terms.last().map_or(0, |(j, _)| j + 1);
-    Coefs { terms, stages }
 }
 
 impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
@@ -273,7 +249,9 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         let acc = &ws.k[i * n2 + n..(i + 1) * n2];
         let ksi = &mut ws.ks[i * n2 * w..(i + 1) * n2 * w];
         let (dq, dv) = ksi.split_at_mut(n * w);
-        // Rows past the tangent's reach are zero and are not read.
+        // Rows past the tangent's reach stay at the zeros `prepare` wrote:
+        // they are neither written nor read, but for the sensors' readings,
+        // which take them as the zeros they are.
         let r = D::reach(self.tangent.reach(self.sys), n);
         dq[..r * w].copy_from_slice(&ws.sy_stage[n * w..(n + r) * w]);
         self.tangent.apply::<M, D>(
@@ -614,210 +592,4 @@ fn set_branches(z: &mut InternalStates, (from, to): (f64, f64)) {
             }
         }
     }
-}
-
-/// `out = y + h Σ_j a_j k_j` over the nonzero `(j, a_j)`, thirty-two (then
-/// eight, one) elements at a time with the sum over the stages in registers
-/// (one pass over the output, not one per stage).
-#[inline(always)]
-fn combine<M: Madd>(y: &[f64], k: &[f64], a: &Coefs, h: f64, len: usize, out: &mut [f64]) {
-    combine_range::<M>(y, k, a, h, len, (0, len), out);
-}
-
-/// [`combine`] over the elements `from..to` of stages `len` long only.
-#[inline(always)]
-fn combine_range<M: Madd>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    len: usize,
-    (from, to): (usize, usize),
-    out: &mut [f64],
-) {
-    assert!(stages_fit(k, a, len) && to <= len && y.len() >= to && out.len() >= to);
-    let mut e0 = from;
-    // SAFETY (each call): the stages of `a` lie in `k` (asserted) and each
-    // chunk ends within `to` ≤ len (the loop conditions).
-    while e0 + 32 <= to {
-        unsafe { combine_chunk::<M, 32>(y, k, a, h, len, e0, out) };
-        e0 += 32;
-    }
-    while e0 + 8 <= to {
-        unsafe { combine_chunk::<M, 8>(y, k, a, h, len, e0, out) };
-        e0 += 8;
-    }
-    // The remainder, one element at a time.
-    for e in e0..to {
-        unsafe { combine_chunk::<M, 1>(y, k, a, h, len, e, out) };
-    }
-}
-
-/// `out = y + h Σ_j a_j k_j` for the state `[q; q̇]` (n each) over the
-/// coordinates the motion reaches (the first `reach` of each half, see
-/// `System::active`); the others stay at zero in y and k, and are left as
-/// they are (zero) in `out`.
-#[inline(always)]
-fn combine_state<M: Madd>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    (n, reach): (usize, usize),
-    out: &mut [f64],
-) {
-    if reach == n {
-        combine::<M>(y, k, a, h, 2 * n, out);
-    } else {
-        combine_range::<M>(y, k, a, h, 2 * n, (0, reach), out);
-        combine_range::<M>(y, k, a, h, 2 * n, (n, n + reach), out);
-    }
-}
-
-/// [`combine`] for the sensitivities, two halves `half` long each, over
-/// the first `reach` elements of each (all of them when `reach == half`):
-/// the others stay at zero in y and k, and are left as they are in `out`.
-#[inline(always)]
-fn combine_halves<M: Madd>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    (half, reach): (usize, usize),
-    out: &mut [f64],
-) {
-    if reach == half {
-        combine::<M>(y, k, a, h, 2 * half, out);
-    } else {
-        combine_range::<M>(y, k, a, h, 2 * half, (0, reach), out);
-        combine_range::<M>(y, k, a, h, 2 * half, (half, half + reach), out);
-    }
-}
-
-/// `y += h Σ_j a_j k_j`, like [`combine`].
-#[inline(always)]
-fn accumulate<M: Madd>(y: &mut [f64], k: &[f64], a: &Coefs, h: f64, len: usize) {
-    accumulate_range::<M>(y, k, a, h, len, (0, len));
-}
-
-/// [`accumulate`] over the first `reach` elements of each of two halves
-/// `half` long, as [`combine_halves`].
-#[inline(always)]
-fn accumulate_halves<M: Madd>(
-    y: &mut [f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    (half, reach): (usize, usize),
-) {
-    if reach == half {
-        accumulate::<M>(y, k, a, h, 2 * half);
-    } else {
-        accumulate_range::<M>(y, k, a, h, 2 * half, (0, reach));
-        accumulate_range::<M>(y, k, a, h, 2 * half, (half, half + reach));
-    }
-}
-
-/// [`accumulate`] over the elements `from..to` of stages `len` long only.
-#[inline(always)]
-fn accumulate_range<M: Madd>(
-    y: &mut [f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    len: usize,
-    (from, to): (usize, usize),
-) {
-    assert!(stages_fit(k, a, len) && to <= len && y.len() >= to);
-    let mut e0 = from;
-    // SAFETY: as in `combine_range`.
-    while e0 + 32 <= to {
-        unsafe { accumulate_chunk::<M, 32>(y, k, a, h, len, e0) };
-        e0 += 32;
-    }
-    while e0 + 8 <= to {
-        unsafe { accumulate_chunk::<M, 8>(y, k, a, h, len, e0) };
-        e0 += 8;
-    }
-    for e in e0..to {
-        unsafe { accumulate_chunk::<M, 1>(y, k, a, h, len, e) };
-    }
-}
-
-/// Whether every stage j of `a` lies in `k`: `(j + 1)·len ≤ k.len()`.
-#[inline(always)]
-fn stages_fit(k: &[f64], a: &Coefs, len: usize) -> bool {
-    (a.stages)
-        .checked_mul(len)
-        .is_some_and(|end| end <= k.len())
-}
-
-/// `out[e0..e0 + W] = y[e0..e0 + W] + h Σ_j a_j k_j[e0..e0 + W]`.
-///
-/// # Safety
-/// As [`stage_sum`].
-#[inline(always)]
-unsafe fn combine_chunk<M: Madd, const W: usize>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    len: usize,
-    e0: usize,
-    out: &mut [f64],
-) {
-    // SAFETY: the caller's.
-    let s = unsafe { stage_sum::<M, W>(k, a, len, e0) };
-    let (yc, oc) = (&y[e0..e0 + W], &mut out[e0..e0 + W]);
-    for q in 0..W {
-        oc[q] = M::madd(h, s[q], yc[q]);
-    }
-}
-
-/// `y[e0..e0 + W] += h Σ_j a_j k_j[e0..e0 + W]`.
-///
-/// # Safety
-/// As [`stage_sum`].
-#[inline(always)]
-unsafe fn accumulate_chunk<M: Madd, const W: usize>(
-    y: &mut [f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    len: usize,
-    e0: usize,
-) {
-    // SAFETY: the caller's.
-    let s = unsafe { stage_sum::<M, W>(k, a, len, e0) };
-    let yc = &mut y[e0..e0 + W];
-    for q in 0..W {
-        yc[q] = M::madd(h, s[q], yc[q]);
-    }
-}
-
-/// `Σ_j a_j k_j[e0 .. e0 + W]`, stage j being `k[j·len .. (j + 1)·len]`.
-/// Unchecked: bounds checks here cost a third of the loop's instructions.
-///
-/// # Safety
-/// `e0 + W ≤ len` and, for every `(j, _)` in `a`, `(j + 1)·len ≤ k.len()`
-/// ([`stages_fit`]: `a.stages` is the last j + 1, and [`nonzero`], which
-/// alone builds a [`Coefs`], keeps the terms in increasing j).
-#[inline(always)]
-unsafe fn stage_sum<M: Madd, const W: usize>(
-    k: &[f64],
-    a: &Coefs,
-    len: usize,
-    e0: usize,
-) -> [f64; W] {
-    debug_assert!(e0 + W <= len && stages_fit(k, a, len));
-    let mut s = [0.0; W];
-    for &(j, aj) in a.iter() {
-        let start = j * len + e0;
-        // SAFETY: start + W ≤ j·len + len ≤ k.len() by the preconditions.
-        let kj = unsafe { k.get_unchecked(start..start + W) };
-        for q in 0..W {
-            s[q] = M::madd(aj, kj[q], s[q]);
-        }
-    }
-    s
 }

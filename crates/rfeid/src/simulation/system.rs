@@ -93,7 +93,7 @@ pub struct System<'a> {
     pub(crate) base: Vec<f64>,
     /// The dense kernel's reach: 1 + the last coordinate whose acceleration
     /// can differ from zero (a term of K, C, the power laws, a load or the
-    /// weight in its row); n with friction or hysteresis, or before the
+    /// weight in its row); n with friction, hysteresis or contacts, or before the
     /// dense panels are built. A coordinate past it stays at rest from
     /// rest: its row of the accelerations is zero, and since M is diagonal
     /// and K, C and `B_pᵀ f(B_p q)` are symmetric in their coupling, so is

@@ -96,8 +96,8 @@ pub(crate) struct Tangent {
     /// (`contact_events`).
     contacts: Vec<ContactTerms>,
     /// 1 + the last coordinate whose acceleration the explicit terms E can
-    /// move (a component, mass, inertia or load that a parameter enters):
-    /// with the system's reach, the rows of the sensitivities that can
+    /// move outside the system's reach (a component a parameter enters, or
+    /// a load): with that reach, the rows of the sensitivities that can
     /// differ from zero ([`Self::reach`]).
     extent: usize,
 }
@@ -311,17 +311,7 @@ impl Tangent {
             }
         }
 
-        // J Y + E, row by row.
-        for (k, (row, out)) in jac
-            .chunks_exact(2 * n)
-            .zip(dacc[..r * width].chunks_exact_mut(width))
-            .enumerate()
-        {
-            match r == n {
-                true => times_columns::<M>(row, sy, (et, n, k), width, out),
-                false => times_reached::<M>(row, sy, (et, n, k), (width, r), out),
-            }
-        }
+        times_rows::<M>(jac, sy, et, (n, r, width), dacc);
         self.add_others(sys, (t, before), acc, dacc, segments);
     }
 
@@ -504,17 +494,19 @@ fn active_components(
 }
 
 /// 1 + the last coordinate that the explicit terms of the parameters can
-/// move beyond the system's reach ([`Tangent::reach`]): the components in
-/// `active` (a power-law spring, or one a parameter enters, whatever its
-/// coefficients' values) and the loads in `others`. A mass's and an
-/// inertia's terms, `(g − q̈)/m` and `−q̈/m` per coordinate, are zero past
-/// the reach, where the weight and the acceleration are.
+/// move, where the system's reach may not hold it ([`Tangent::reach`]):
+/// the components in `active` (a power-law spring, or one a parameter
+/// enters, whatever its coefficients' values) and the loads in `others`.
+/// A mass's and an inertia's terms, `(g − q̈)/m` and `−q̈/m` per
+/// coordinate, count nothing: they are zero past the system's reach, where
+/// the weight and the acceleration are.
 fn explicit_extent(sys: &System<'_>, active: &[Active], others: &[(usize, Usage)]) -> usize {
     let last = |v: &[f64]| v.iter().rposition(|x| *x != 0.0).map_or(0, |i| i + 1);
     let comps = active.iter().map(|c| last(&c.b).max(last(&c.g)));
     let others = others.iter().map(|&(_, usage)| match usage {
         Usage::Mass(_) | Usage::Inertia(..) => 0,
         Usage::Amplitude(e, _) => last(&sys.minv_loads[e]),
+        // No other usage is among `others`; were one, every row.
         _ => sys.n,
     });
     comps.chain(others).max().unwrap_or(0).min(sys.n)
@@ -566,6 +558,29 @@ fn dot<M: Madd>(a: &[f64], x: &[f64]) -> f64 {
         t = M::madd(a[1], x[1], t);
     }
     s + t
+}
+
+/// `J Y + E` into the first `r` rows of `dacc` (rows `width` long), row by
+/// row: the whole rows of J (`2n` long) when `r == n`, else only the
+/// reached ones ([`Tangent::reach`]).
+#[inline(always)]
+fn times_rows<M: Madd>(
+    jac: &[f64],
+    sy: &[f64],
+    et: &[f64],
+    (n, r, width): (usize, usize, usize),
+    dacc: &mut [f64],
+) {
+    for (k, (row, out)) in jac
+        .chunks_exact(2 * n)
+        .zip(dacc[..r * width].chunks_exact_mut(width))
+        .enumerate()
+    {
+        match r == n {
+            true => times_columns::<M>(row, sy, (et, n, k), width, out),
+            false => times_reached::<M>(row, sy, (et, n, k), (width, r), out),
+        }
+    }
 }
 
 /// `out[c] = a · X[.., c] + Eᵀ[c][k]` for a row vector a (even length) and a
@@ -638,7 +653,8 @@ fn row_times<M: Madd, const W: usize>(
 /// [`times_columns`] over the rows of X that can differ from zero: the
 /// first `r` (even) of each half, as [`Tangent::reach`] gives them. The
 /// skipped terms multiply rows of zeros, and the rest are summed in the
-/// same two accumulators in the same order, so the result is the same.
+/// same two accumulators in the same order, so the result is the same (for
+/// finite values: a non-finite entry of J times a zero row would be NaN).
 #[inline(always)]
 fn times_reached<M: Madd>(
     a: &[f64],

@@ -34,8 +34,8 @@ use std::time::Instant;
 
 mod count;
 mod factor;
+mod fit;
 mod kept;
-mod last_fit;
 mod part;
 mod steps;
 mod watch;
@@ -90,7 +90,7 @@ pub struct OutputError<'m> {
     /// The last runs with sensitivities, if kept ([`OutputError::keep_runs`]).
     kept: kept::KeptRuns,
     /// The responses of the last [`OutputError::simulate_all`].
-    last_fit: last_fit::LastFit,
+    last_fit: fit::LastFit,
 }
 
 /// The default of [`OutputError::set_jacobian_memory`]: 256 MiB, a
@@ -188,7 +188,7 @@ impl<'m> OutputError<'m> {
             jacobian_memory: DEFAULT_JACOBIAN_MEMORY,
             block_samples: factor::BLOCK_SAMPLES,
             kept: kept::KeptRuns::default(),
-            last_fit: last_fit::LastFit::default(),
+            last_fit: fit::LastFit::default(),
         }
     }
 
@@ -369,50 +369,6 @@ impl<'m> OutputError<'m> {
     /// All of experiment p's parameter values at u.
     pub fn experiment_params(&self, p: usize, u: &[f64], out: &mut Vec<f64>) {
         self.parts[p].all_params(u, &self.maps, out);
-    }
-
-    /// Every experiment's simulated response at u, in parallel, at its
-    /// chosen steps even while the searches take fewer
-    /// ([`OutputError::use_search_steps`]): the fit is judged, and the noise
-    /// estimated, at the full tolerance. A second call at the same point
-    /// (to the bit) and the same steps takes the first's responses, and a
-    /// call where the runs with sensitivities are kept
-    /// ([`OutputError::keep_runs`]) at the chosen steps takes theirs: what a
-    /// new run would give, bit for bit, and not counted as a simulation.
-    pub fn simulate_all(&self, u: &[f64]) -> Result<Vec<Response>, SimulationError> {
-        self.check_cancel()?;
-        if let Some(responses) = self.last_fit_at(u).or_else(|| self.kept_fit_at(u)) {
-            return Ok(responses);
-        }
-        let since = Instant::now();
-        let results: Vec<_> = (0..self.parts.len())
-            .into_par_iter()
-            .map(|i| self.simulate_part(i, u))
-            .collect();
-        self.count(&results, false, since);
-        let responses: Result<Vec<Response>, _> = results.into_iter().collect();
-        if let Ok(responses) = &responses {
-            self.keep_fit(u, responses);
-        }
-        responses
-    }
-
-    /// Experiment `i`'s simulated response at u, at its chosen steps.
-    fn simulate_part(&self, i: usize, u: &[f64]) -> Result<Response, SimulationError> {
-        self.check_cancel()?;
-        let part = &self.parts[i];
-        let mut ws = part.workspace(0);
-        part.all_params(u, &self.maps, &mut ws.params);
-        let chosen = part.data.sim.searching().then(|| {
-            let mut sim = part.data.sim.clone();
-            sim.use_chosen_steps();
-            sim
-        });
-        chosen
-            .as_ref()
-            .unwrap_or(&part.data.sim)
-            .run(&ws.params, &mut ws.sim, &mut ws.response)?;
-        Ok(ws.response)
     }
 
     /// Per-sensor sums of squared unweighted residuals of the responses `g`
