@@ -188,11 +188,6 @@ fn a_fit_at_the_last_fits_point_takes_its_responses() {
     let before = runs(&problem);
     let again = problem.simulate_all(&u).expect("kept");
     assert_eq!(runs(&problem), before, "no simulation");
-    let bits = |r: &[rfeid::simulation::Response]| {
-        r.iter()
-            .flat_map(|r| r.values.iter().map(|v| v.to_bits()))
-            .collect::<Vec<_>>()
-    };
     assert_eq!(bits(&first), bits(&again));
     problem.clone().simulate_all(&u).expect("simulates");
     assert_eq!(runs(&problem), before + 2, "the clone simulated");
@@ -234,10 +229,12 @@ fn the_fit_at_a_kept_run_is_its_response() {
     let kept = keeping.simulate_all(&end.u).expect("kept");
     assert_eq!(keeping.tally(), before, "no simulation");
     let new = fresh.simulate_all(&end.u).expect("simulates");
-    let bits = |r: &[rfeid::simulation::Response]| {
-        r.iter()
-            .flat_map(|r| r.values.iter().map(|v| v.to_bits()))
-            .collect::<Vec<_>>()
-    };
     assert_eq!(bits(&kept), bits(&new));
+}
+
+/// The bits of every value of the responses `r`.
+fn bits(r: &[rfeid::simulation::Response]) -> Vec<u64> {
+    r.iter()
+        .flat_map(|r| r.values.iter().map(|v| v.to_bits()))
+        .collect()
 }

@@ -815,10 +815,17 @@ mod reach_tests {
     /// coordinate: y advances as q̇ t.
     #[test]
     fn a_start_that_moves_past_the_reach_integrates_every_coordinate() {
-        let m = one_body("");
-        let sim = Simulator::new(&m);
+        let out = drifting(&one_body(""), 1);
+        let drift = out.sensor(1)[200];
+        assert!((drift - 0.2).abs() < 1e-12, "q_y after 0.2 s: {drift}");
+    }
+
+    /// The run of `m` from sample 100 to 300 from rest but for a velocity
+    /// of 1 m/s along `coordinate`.
+    fn drifting(m: &crate::model::Model, coordinate: usize) -> Response {
+        let sim = Simulator::new(m);
         let mut y = vec![0.0; 12];
-        y[6 + 1] = 1.0;
+        y[6 + coordinate] = 1.0;
         let mut span = Span {
             start: Some(SampleState {
                 sample: 100,
@@ -831,8 +838,7 @@ mod reach_tests {
         let mut out = Response::zeros(0, 0);
         sim.run_span(&m.nominal(), &mut Workspace::default(), &mut out, &mut span)
             .unwrap();
-        let drift = out.sensor(1)[200];
-        assert!((drift - 0.2).abs() < 1e-12, "q_y after 0.2 s: {drift}");
+        out
     }
 
     /// The same under a weight whose component along the drift is within
@@ -847,21 +853,7 @@ mod reach_tests {
                  direction = [0, 0, 1]\nquantity = \"displacement\"\n\n";
         let text = format!("gravity = [-9.81, 0.0, 1e-12]\n{}", one_body_text(z));
         let m = parse_model(&text, Path::new("one_body.toml")).unwrap_or_else(|e| panic!("{e}"));
-        let sim = Simulator::new(&m);
-        let mut y = vec![0.0; 12];
-        y[6 + 2] = 1.0;
-        let mut span = Span {
-            start: Some(SampleState {
-                sample: 100,
-                y,
-                z: Vec::new(),
-            }),
-            samples: Some(201),
-            ..Span::default()
-        };
-        let mut out = Response::zeros(0, 0);
-        sim.run_span(&m.nominal(), &mut Workspace::default(), &mut out, &mut span)
-            .unwrap();
+        let out = drifting(&m, 2);
         // The sensor z comes first: it is added with the first element.
         let drift = out.sensor(0)[200];
         assert!((drift - 0.2).abs() < 1e-9, "q_z after 0.2 s: {drift}");
