@@ -1,11 +1,11 @@
 //! The fit at a point ([`OutputError::simulate_all`]), and its responses
-//! kept for the next call at the same point. The pipeline asks for the fit at one point
-//! several times over: the fit checks at a search's end, the first round of
-//! the reweighting there, the verdict's fitted signals at the estimate. For
-//! the criterion's life the model, its fixed values and the data are fixed,
-//! so a response depends on the parameter values, the integrator and the
-//! kernel alone: the kept one is what a new run would give, bit for bit; it
-//! is not a simulation, and is not counted as one.
+//! kept for the next call at the same point. The pipeline asks for the fit
+//! at one point several times over: the fit checks at a search's end, the
+//! first round of the reweighting there, the verdict's fitted signals at
+//! the estimate. For the criterion's life the model, its fixed values and
+//! the data are fixed, so a response depends on the parameter values, the
+//! integrator and the kernel alone: the kept one is what a new run would
+//! give, bit for bit; it is not a simulation, and is not counted as one.
 use super::OutputError;
 use crate::simulation::{Integrator, Kernel, Response, SimulationError, Simulator};
 use rayon::prelude::*;
