@@ -75,31 +75,12 @@ fn combine_range<M: Madd>(
     }
 }
 
-/// `out = y + h Σ_j a_j k_j` for the state `[q; q̇]` (n each) over the
-/// coordinates the motion reaches (the first `reach` of each half, see
-/// `System::active`); the others stay at zero in y and k, and are left as
-/// they are (zero) in `out`.
-#[inline(always)]
-pub(super) fn combine_state<M: Madd>(
-    y: &[f64],
-    k: &[f64],
-    a: &Coefs,
-    h: f64,
-    (n, reach): (usize, usize),
-    out: &mut [f64],
-) {
-    if reach == n {
-        combine::<M>(y, k, a, h, 2 * n, out);
-    } else {
-        combine_range::<M>(y, k, a, h, 2 * n, (0, reach), out);
-        combine_range::<M>(y, k, a, h, 2 * n, (n, n + reach), out);
-    }
-}
-
-/// [`combine`] for the sensitivities, two halves `half` long each, over
-/// the first `reach` elements of each (all of them when `reach == half`):
-/// the others stay at the zeros the workspace's `prepare` wrote in y and
-/// k, and are left as they are (zero) in `out`.
+/// [`combine`] over two halves `half` long each (the state's `[q; q̇]`, or
+/// the sensitivities' position and velocity rows), over the first `reach`
+/// elements of each (all of them when `reach == half`): the coordinates
+/// the motion reaches (`System::active`), or the sensitivities' rows
+/// (`Tangent::reach`). The others stay at the zeros the workspace's
+/// `prepare` wrote in y and k, and are left as they are (zero) in `out`.
 #[inline(always)]
 pub(super) fn combine_halves<M: Madd>(
     y: &[f64],

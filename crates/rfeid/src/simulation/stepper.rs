@@ -30,7 +30,7 @@ use super::law_rows::{hysteresis_accel, hysteresis_rates, hysteresis_tangent};
 use super::laws::bouc_wen::Branch;
 use super::madd::Madd;
 use super::sines::StageSines;
-use super::stage_sums::{accumulate, accumulate_halves, combine, combine_halves, combine_state};
+use super::stage_sums::{accumulate, accumulate_halves, combine, combine_halves};
 use super::stage_sums::{nonzero, Coefs};
 use super::system::System;
 use super::tableau::Tableau;
@@ -286,7 +286,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
         for i in 1..self.tab.stages() {
             {
                 let (done, rest) = ws.y_stage.split_at_mut(i * n2);
-                combine_state::<M>(&ws.y, &ws.k, &self.a_nz[i], h, sizes, &mut rest[..n2]);
+                combine_halves::<M>(&ws.y, &ws.k, &self.a_nz[i], h, sizes, &mut rest[..n2]);
                 let _ = done;
             }
             let nz = ws.z.y.len();
@@ -305,7 +305,7 @@ impl<'a, M: Madd, D: Dim> Stepper<'a, M, D> {
             }
             self.derivative(ws, i, ti);
         }
-        combine_state::<M>(&ws.y, &ws.k, &self.b_nz, h, sizes, &mut ws.y_new);
+        combine_halves::<M>(&ws.y, &ws.k, &self.b_nz, h, sizes, &mut ws.y_new);
         let nz = ws.z.y.len();
         if nz > 0 {
             combine::<M>(&ws.z.y, &ws.z.k, &self.b_nz, h, nz, &mut ws.z.y_new);

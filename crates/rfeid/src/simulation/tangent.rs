@@ -502,7 +502,8 @@ fn active_components(
 /// the weight and the acceleration are.
 fn explicit_extent(sys: &System<'_>, active: &[Active], others: &[(usize, Usage)]) -> usize {
     let last = |v: &[f64]| v.iter().rposition(|x| *x != 0.0).map_or(0, |i| i + 1);
-    let comps = active.iter().map(|c| last(&c.b).max(last(&c.g)));
+    // g = −M⁻¹b has b's nonzeros.
+    let comps = active.iter().map(|c| last(&c.b));
     let others = others.iter().map(|&(_, usage)| match usage {
         Usage::Mass(_) | Usage::Inertia(..) => 0,
         Usage::Amplitude(e, _) => last(&sys.minv_loads[e]),
